@@ -1,0 +1,128 @@
+#pragma once
+/// @file brush_wear_model.h
+/// Brush model of massed Kelvin-Voigt tread elements with stick and slide (paper Section 3.2,
+/// Eqs 12-18) and the generalized-friction-power wear law integrated over the patch (Section 3.3,
+/// Eqs 19-20, temperature variant Eq 25). Implemented to the project's model spec.
+///
+/// Physics, per tread element (per unit area) on a lateral strip y, from the leading edge x = +a
+/// to the trailing edge x = -a at the rolling speed V_r:
+///   m u' = tau - k o delta - c o u,  u = d delta/dt        (Eqs 12, 17; k = (phi k_y, k_y), Eq 13)
+///   k_y = k_y0 + k_y1 Fz                                   (Eq 13)
+///   v_s = u - v_r (operating_point.h)                      (Eq 16)
+///   stick (v_s = 0) while |k delta + c v_r + m dv_r/dt| <= sat(p) mu_0 p, else
+///   slide with tau = -mu(|v_s|, p) p v_s/|v_s|            (Eqs 10, 18 with friction opposing slip)
+///   w_r = (w4 + w3 (|tau|/1 MPa)^w1 (|v_s|/1 m/s)^w2) / V  (Eq 19, per unit area and distance)
+///   W_r = integral w_r dA,  Fx, Fy = integral tau dA,  Mz = integral (x tau_y - y tau_x) dA  (Eq 20)
+/// Elements enter relaxed (delta = 0) and at rest relative to the wheel (u = 0) unless
+/// BrushOptions::enter_at_road_velocity; they leave with their residual deflection.
+///
+/// Numerics (model spec, "Numerics"): variable-step BDF2 in time along the element path on an x grid
+/// graded towards both edges, and lateral strips clustered towards the shoulders. Each implicit step
+/// treats Coulomb friction as a set-valued law at v_s = 0 (return mapping): stick if the trial stress
+/// is inside the static disc, else one monotone scalar equation for |v_s| is solved by safeguarded
+/// Newton iteration in log|v_s|. The turn-slip coupling Omega delta in v_r is resolved by fixed-point
+/// iteration. Memory is allocated once at construction; evaluate() allocates nothing.
+///
+/// Outputs: Fx, Fy, Mz; W_r [kg/m] and wear per time [kg/s]; area fractions of stick by the paper's
+/// Section 4 definition (v_s <= v_m) and of exact stick (v_s = 0); optionally the local fields.
+/// Limits: steady state (no transient of the patch), rigid carcass, flat rectangular footprint,
+/// no camber; the speed must be > 0 (standstill is the caller's convention, see WearModel).
+
+#include <string>
+#include <vector>
+
+#include "tread_wear/core/contact_patch.h"
+#include "tread_wear/core/friction.h"
+#include "tread_wear/core/operating_point.h"
+#include "tread_wear/core/tire_params.h"
+
+namespace tread_wear {
+
+/// Discretisation of the contact patch.
+struct GridSpec {
+  int n_x_steps = 200;        ///< element time steps across the contact length [-], >= 4
+  int n_strips = 16;          ///< lateral strips [-], >= 1
+  double edge_grading = 0.8;  ///< beta in x = a((1-beta) s + beta sin(pi s/2)): 0 uniform, -> 1 fine edges
+
+  bool validate(std::string* error) const;
+};
+
+enum class TurnSlipOrientation {
+  kLiteral,  ///< path curvature used as given (Eq 14 read literally for the rig tables)
+  kFlipped   ///< path curvature negated: slip angle oriented the other way against the track curve
+};
+
+struct BrushOptions {
+  GridSpec grid;
+  TurnSlipOrientation orientation = TurnSlipOrientation::kLiteral;
+  bool enter_at_road_velocity = false;  ///< leading-edge alternative of the model spec (u = v_r)
+  int turn_slip_iterations = 3;         ///< fixed-point passes for the Omega delta coupling, >= 1
+  double creep_floor_mps = 1e-14;       ///< |v_s| below this counts as v_s -> 0+ (creep at the static limit)
+
+  bool validate(std::string* error) const;
+};
+
+/// Global outputs of one evaluation. All SI.
+struct WearResult {
+  double fx_n = 0.0;                  ///< longitudinal force Fx [N]
+  double fy_n = 0.0;                  ///< lateral (side) force Fy [N]
+  double mz_nm = 0.0;                 ///< aligning moment Mz about the contact centre [N m]
+  double wear_rate_kg_per_m = 0.0;    ///< global wear rate W_r per distance travelled [kg/m] (Eq 20)
+  double wear_rate_kg_per_s = 0.0;    ///< global wear rate per time [kg/s] = W_r V
+  double stick_fraction = 1.0;        ///< area fraction with |v_s| <= v_m (paper Section 4) [-]
+  double slide_fraction = 0.0;        ///< 1 - stick_fraction [-]
+  double exact_stick_fraction = 1.0;  ///< area fraction with v_s = 0 [-]
+  double half_length_m = 0.0;         ///< contact half length a [m]
+  double half_width_m = 0.0;          ///< contact half width b [m]
+  int max_root_iterations = 0;        ///< worst scalar-solver iteration count in this evaluation [-]
+};
+
+/// Local fields on the grid (node-major: index = i * n_strips + j, i along x from the leading edge).
+struct PatchFields {
+  int n_x_nodes = 0;
+  int n_strips = 0;
+  std::vector<double> x_m;              ///< node x [m], size n_x_nodes
+  std::vector<double> y_m;              ///< strip centre y [m], size n_strips
+  std::vector<double> pressure_pa;      ///< p [Pa]
+  std::vector<double> tau_x_pa, tau_y_pa;        ///< shear stress [Pa]
+  std::vector<double> v_sx_mps, v_sy_mps;        ///< sliding velocity [m/s]
+  std::vector<double> delta_x_m, delta_y_m;      ///< tip deflection [m]
+  std::vector<double> wear_kg_per_m3;   ///< local wear rate w_r per area and distance [kg/(m m^2)]
+  std::vector<unsigned char> state;     ///< 0 exact stick, 1 creep (0 < |v_s| <= v_m), 2 slide (|v_s| > v_m)
+
+  void resize(int nx, int ny);
+  int index(int i, int j) const { return i * n_strips + j; }
+};
+
+/// The paper's model, solved by marching BDF2 with return mapping. Construct once, evaluate often.
+class BrushWearModel {
+ public:
+  /// @throw std::invalid_argument naming the field when params or options are invalid.
+  BrushWearModel(const TireParams& params, const BrushOptions& options);
+
+  /// Evaluates one steady operating point. The point must satisfy OperatingPoint::validate() and
+  /// have speed_mps > 0. Writes into caller-owned storage; allocates nothing.
+  /// @param[in] op operating point
+  /// @param[out] result global outputs
+  /// @param[out] fields optional local fields, pre-sized with fields->resize(nodesX(), strips())
+  void evaluate(const OperatingPoint& op, WearResult* result, PatchFields* fields = nullptr) const;
+
+  int nodesX() const { return static_cast<int>(s_.size()); }
+  int strips() const { return static_cast<int>(eta_.size()); }
+  const TireParams& params() const { return params_; }
+  const BrushOptions& options() const { return options_; }
+
+ private:
+  struct StripResult;
+  TireParams params_;
+  BrushOptions options_;
+  SavkoorFriction friction_;
+  std::vector<double> s_;        ///< mapped node coordinate x/a, from +1 to -1
+  std::vector<double> wx_;       ///< trapezoid weight in x/a
+  std::vector<double> gx_even_;  ///< even part of g_x at the nodes
+  std::vector<double> eta_;      ///< strip centre y/b
+  std::vector<double> wy_;       ///< strip width in y/b
+  std::vector<double> gy_;       ///< g_y at the strip centres
+};
+
+}  // namespace tread_wear

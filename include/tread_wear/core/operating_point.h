@@ -1,0 +1,42 @@
+#pragma once
+/// @file operating_point.h
+/// Operating conditions of one wheel and their kinematics (model spec, "Kinematics").
+///
+/// Axes: ISO 8855 tire axes at the contact centre: x forward (leading edge at x = +a), y left, z up.
+/// Forces and moments are those the road applies to the tire.
+///   alpha  slip angle: tan(alpha) = V_y / V_x, positive when the wheel centre moves to the left of its
+///          heading; a positive alpha gives a negative side force (Fy = -C alpha near zero).
+///   kappa  slip ratio (V_r - V_x)/V_x with V_x = V cos(alpha); positive when driving.
+///   c      path curvature 1/R: positive when the wheel turns left (turn centre on +y), 0 when straight.
+/// Relative velocity the tread tip at (x + delta_x, y + delta_y) must have to stick to the road
+/// (the paper's Eq 14 generalised; Omega = V c is the yaw rate of the wheel over the road):
+///   v_rx = kappa V_x + Omega (y + delta_y)
+///   v_ry = -V sin(alpha) - Omega (x + delta_x)
+/// The Grip and Abrasion Test Stand is the special case kappa = 0, |R| = R_t = 60 mm. Eq 14 read
+/// literally (omega_z > 0, alpha > 0 in the paper's axes) is, mirrored into ISO axes, alpha < 0 with
+/// R = +R_t: the side force points to the track centre. The other orientation is the option
+/// TurnSlipOrientation::kFlipped. Fictitious forces of the yawing frame (order m Omega v) are neglected.
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace tread_wear {
+
+struct OperatingPoint {
+  double speed_mps = 0.0;             ///< V, speed of the wheel centre over the road [m/s], >= 0
+  double slip_angle_rad = 0.0;        ///< alpha [rad], |alpha| < pi/2
+  double slip_ratio = 0.0;            ///< kappa [-], > -1
+  double path_curvature_per_m = 0.0;  ///< 1/R [1/m], ISO sign (left turn positive); 0 = straight
+  double load_n = 0.0;                ///< vertical load Fz [N], > 0
+  double tread_temperature_c = std::numeric_limits<double>::quiet_NaN();  ///< [degC]; NaN = unknown
+
+  /// Names the first field that is non-finite or outside its physical range.
+  bool validate(std::string* error) const;
+  /// Longitudinal speed V_x = V cos(alpha) [m/s].
+  double longitudinalSpeed() const { return speed_mps * std::cos(slip_angle_rad); }
+  /// Rolling speed V_r = V_x (1 + kappa) [m/s]: the speed at which tread elements cross the patch.
+  double rollingSpeed() const { return longitudinalSpeed() * (1.0 + slip_ratio); }
+};
+
+}  // namespace tread_wear

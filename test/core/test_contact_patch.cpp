@@ -1,0 +1,84 @@
+// Pressure field (paper Eqs 6-9): the three moment conditions of Eq 9 hold to quadrature accuracy.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "tread_wear/core/contact_patch.h"
+
+namespace tread_wear {
+namespace {
+
+struct Moments {
+  double f0, fx, fy;
+};
+
+// Composite Simpson in x and y, fine enough that its own error is far below the tolerances.
+Moments integrate(const ContactPatch& patch, int n = 2000) {
+  const double a = patch.halfLength(), b = patch.halfWidth();
+  Moments m{0, 0, 0};
+  for (int i = 0; i <= n; ++i) {
+    const double x = -a + 2.0 * a * i / n;
+    const double wi = (i == 0 || i == n) ? 1 : (i % 2 ? 4 : 2);
+    for (int j = 0; j <= n; ++j) {
+      const double y = -b + 2.0 * b * j / n;
+      const double wj = (j == 0 || j == n) ? 1 : (j % 2 ? 4 : 2);
+      const double w = wi * wj * (2.0 * a / n / 3.0) * (2.0 * b / n / 3.0);
+      const double p = patch.pressure(x, y);
+      m.f0 += w * p;
+      m.fx += w * p * x;
+      m.fy += w * p * y;
+    }
+  }
+  return m;
+}
+
+TEST(ContactPatch, Eq6HalfLengthOfTheGroschWheel) {
+  FootprintParams fp;  // Table 4: a = 0.05 mm * 75^0.82 + 1.37 mm at 75 N
+  EXPECT_NEAR(fp.halfLength(75.0), (0.05 * std::pow(75.0, 0.82) + 1.37) * 1e-3, 1e-15);
+  EXPECT_NEAR(fp.halfLength(75.0), 3.0947e-3, 1e-6);  // hand calculation
+}
+
+TEST(ContactPatch, Eq9MomentsHoldForTable4Shape) {
+  FootprintParams fp;
+  for (double load : {50.0, 75.0, 100.0}) {
+    const ContactPatch patch(fp, load);
+    const Moments m = integrate(patch);
+    // |s|^(2n) with n = 2.06 has a weak singular derivative at s = 0: Simpson converges at ~1e-6 here.
+    EXPECT_NEAR(m.f0 / load, 1.0, 1e-5) << "load " << load;
+    EXPECT_NEAR(m.fx / (load * fp.x_e_m), 1.0, 1e-4) << "load " << load;
+    EXPECT_NEAR(m.fy, 0.0, 1e-9 * load);
+  }
+}
+
+TEST(ContactPatch, Eq9LateralCentreIsReproduced) {
+  FootprintParams fp;
+  fp.y_e_m = 0.5e-3;
+  fp.x_e_m = -0.2e-3;
+  const ContactPatch patch(fp, 80.0);
+  const Moments m = integrate(patch);
+  EXPECT_NEAR(m.f0 / 80.0, 1.0, 1e-5);
+  EXPECT_NEAR(m.fx / (80.0 * fp.x_e_m), 1.0, 1e-4);
+  EXPECT_NEAR(m.fy / (80.0 * fp.y_e_m), 1.0, 1e-4);
+}
+
+TEST(ContactPatch, PressureVanishesAtTheEdgesAndOutside) {
+  const ContactPatch patch(FootprintParams{}, 75.0);
+  const double a = patch.halfLength(), b = patch.halfWidth();
+  EXPECT_DOUBLE_EQ(patch.pressure(a, 0.0), 0.0);
+  EXPECT_DOUBLE_EQ(patch.pressure(-a, 0.0), 0.0);
+  EXPECT_DOUBLE_EQ(patch.pressure(0.0, b), 0.0);
+  EXPECT_DOUBLE_EQ(patch.pressure(1.01 * a, 0.0), 0.0);
+  EXPECT_GT(patch.pressure(0.0, 0.0), 0.0);
+}
+
+TEST(ContactPatch, ValidationNamesTheField) {
+  FootprintParams fp;
+  fp.b_m = -1.0;
+  std::string error;
+  EXPECT_FALSE(fp.validate(&error));
+  EXPECT_NE(error.find("footprint.b = -1"), std::string::npos) << error;
+  EXPECT_NE(error.find("> 0"), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace tread_wear
