@@ -9,3 +9,6 @@ install(TARGETS tread_wear_core ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINA
         LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
 install(DIRECTORY include/${PROJECT_NAME}/ DESTINATION ${CATKIN_PACKAGE_INCLUDE_DESTINATION})
 install(DIRECTORY config data launch DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION} OPTIONAL)
+# Bounded nonlinear least squares for calibration (least_squares.h): Ceres Solver (Debian libceres-dev).
+find_package(Ceres REQUIRED)
+target_link_libraries(tread_wear_core PUBLIC Ceres::ceres)
