@@ -15,5 +15,6 @@ main_job=("${bin}/tread_wear_compare" --params config/tires/grosch_wheel.yaml --
           --orientation both)
 # ---------------------------------------------------------------------------------------------------------
 
+[[ -x ${main_job[0]} ]] || { echo "[main_job] ERROR: ${main_job[0]} was not built" >&2; exit 1; }
 echo "[main_job] ${main_job[*]}"
 exec "${main_job[@]}" "$@"
