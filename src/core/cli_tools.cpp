@@ -1,0 +1,269 @@
+#include "tread_wear/core/cli_tools.h"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "tread_wear/core/conditions_csv.h"
+#include "tread_wear/core/csv.h"
+#include "tread_wear/core/params_io.h"
+#include "tread_wear/core/run_comparison.h"
+#include "tread_wear/core/run_table.h"
+#include "tread_wear/core/units.h"
+#include "tread_wear/core/wear_model.h"
+
+namespace tread_wear {
+namespace {
+
+constexpr int kExitData = 1;
+constexpr int kExitUsage = 2;
+
+const char* const kEvalUsage =
+    "usage: tread_wear_eval --params FILE [--orientation literal|flipped] [--preset fast|standard|reference]\n"
+    "                       CONDITIONS.csv|-\n"
+    "Evaluates the brush wear model (paper Eqs 6-20) at each row of a conditions CSV (or stdin for '-') and\n"
+    "writes CSV to stdout: the input columns, then fx_n, fy_n, mz_nm, wear_rate_kg_per_m, wear_rate_kg_per_s,\n"
+    "stick_fraction, slide_fraction, exact_stick_fraction.\n"
+    "Input columns (SI, ISO 8855 tire axes): speed_mps, slip_angle_rad, slip_ratio, path_radius_m (left turn\n"
+    "positive; 0 or empty = straight), load_n, optional tread_temperature_c.\n"
+    "  --params FILE        tire parameter file (docs/parameters.md), e.g. config/tires/grosch_wheel.yaml\n"
+    "  --orientation X      literal (default): path curvature as given; flipped: curvature negated\n"
+    "  --preset NAME        grid resolution: fast, standard (default) or reference\n"
+    "Speeds below 0.1 m/s use the low-speed convention of WearModel (wear_model.h). A bad row stops the run\n"
+    "with an error naming the row and column; then nothing is written to stdout.\n";
+
+const char* const kCompareUsage =
+    "usage: tread_wear_compare --params FILE --runs RUNS.csv [--orientation literal|flipped|both]\n"
+    "                          [--preset fast|standard|reference] [--csv OUT.csv]\n"
+    "Compares the model with measured runs (run table v1, docs/run_table.md): per run the conditions, measured\n"
+    "and predicted side force [N] and wear rate [g/km] with error ratios (Eq 24), then RMSER per orientation.\n"
+    "Runs with load_std_n are predicted as the Eq 23 average over 10 N load bins.\n"
+    "  --params FILE        tire parameter file (docs/parameters.md)\n"
+    "  --runs FILE          run table, e.g. data/paper/table3_runs.csv\n"
+    "  --orientation X      literal, flipped or both (default both)\n"
+    "  --preset NAME        fast, standard or reference (default reference)\n"
+    "  --csv OUT.csv        also write the per-run comparison in SI to OUT.csv\n";
+
+/// "--name value" options and positional arguments; false with a message on a malformed command line.
+struct Args {
+  std::map<std::string, std::string> options;
+  std::vector<std::string> positional;
+  bool help = false;
+};
+
+bool parseArgs(int argc, const char* const argv[], const std::vector<std::string>& known, Args* args,
+               std::string* error) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--help" || arg == "-h") {
+      args->help = true;
+    } else if (arg.size() > 2 && arg.compare(0, 2, "--") == 0) {
+      bool ok = false;
+      for (const std::string& k : known) ok = ok || arg == "--" + k;
+      if (!ok) {
+        *error = "unknown option '" + arg + "'";
+        return false;
+      }
+      if (i + 1 >= argc) {
+        *error = "option '" + arg + "' needs a value";
+        return false;
+      }
+      if (!args->options.emplace(arg.substr(2), argv[++i]).second) {
+        *error = "option '" + arg + "' given twice";
+        return false;
+      }
+    } else {
+      args->positional.push_back(arg);
+    }
+  }
+  return true;
+}
+
+bool parseOrientation(const std::string& text, TurnSlipOrientation* orientation) {
+  if (text == "literal") {
+    *orientation = TurnSlipOrientation::kLiteral;
+  } else if (text == "flipped") {
+    *orientation = TurnSlipOrientation::kFlipped;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+const char* orientationName(TurnSlipOrientation orientation) {
+  return orientation == TurnSlipOrientation::kLiteral ? "literal" : "flipped";
+}
+
+int usageError(std::ostream& err, const std::string& message, const char* usage) {
+  err << "error: " << message << "\n" << usage;
+  return kExitUsage;
+}
+
+std::string fixed(double value, int decimals) {
+  if (std::isnan(value)) return "-";
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
+  return buffer;
+}
+
+}  // namespace
+
+int runEvalCli(int argc, const char* const argv[], std::istream& in, std::ostream& out, std::ostream& err) {
+  Args args;
+  std::string error;
+  if (!parseArgs(argc, argv, {"params", "orientation", "preset"}, &args, &error))
+    return usageError(err, error, kEvalUsage);
+  if (args.help) {
+    out << kEvalUsage;
+    return 0;
+  }
+  if (!args.options.count("params")) return usageError(err, "--params FILE is required", kEvalUsage);
+  if (args.positional.size() != 1)
+    return usageError(err, "give exactly one conditions file (or '-' for stdin)", kEvalUsage);
+  WearModelOptions options;
+  if (args.options.count("orientation") && !parseOrientation(args.options["orientation"], &options.orientation))
+    return usageError(err, "--orientation must be literal or flipped, not '" + args.options["orientation"] + "'",
+                      kEvalUsage);
+  if (args.options.count("preset") && !parsePreset(args.options["preset"], &options.preset))
+    return usageError(err, "--preset must be fast, standard or reference, not '" + args.options["preset"] + "'",
+                      kEvalUsage);
+  try {
+    const TireParams params = loadTireParams(args.options["params"]);
+    const std::string& source = args.positional[0];
+    ConditionsTable table;
+    if (source == "-") {
+      table = readConditions(in, "stdin");
+    } else {
+      std::ifstream file(source);
+      if (!file) {
+        err << "error: " << source << ": cannot open the file for reading\n";
+        return kExitData;
+      }
+      table = readConditions(file, source);
+    }
+    const WearModel model(params, options);
+    std::vector<WearResult> results(table.points.size());
+    for (std::size_t i = 0; i < table.points.size(); ++i) {
+      const EvalStatus status = model.evaluate(table.points[i], &results[i]);
+      if (status == EvalStatus::kInvalidInput) {
+        table.points[i].validate(&error);
+        err << "error: " << source << ": row " << i + 1 << ": " << error << "\n";
+        return kExitData;
+      }
+      if (status == EvalStatus::kLowSpeed)
+        err << "note: row " << i + 1 << ": speed below " << options.min_speed_mps
+            << " m/s, low-speed convention applied (wear_model.h)\n";
+    }
+    std::ostringstream text;  // everything is computed before anything is written
+    writeEvaluations(text, table, results);
+    out << text.str();
+    out.flush();
+  } catch (const std::exception& e) {
+    err << "error: " << e.what() << "\n";
+    return kExitData;
+  }
+  return 0;
+}
+
+int runCompareCli(int argc, const char* const argv[], std::ostream& out, std::ostream& err) {
+  Args args;
+  std::string error;
+  if (!parseArgs(argc, argv, {"params", "runs", "orientation", "preset", "csv"}, &args, &error))
+    return usageError(err, error, kCompareUsage);
+  if (args.help) {
+    out << kCompareUsage;
+    return 0;
+  }
+  if (!args.positional.empty()) return usageError(err, "unexpected argument '" + args.positional[0] + "'", kCompareUsage);
+  if (!args.options.count("params") || !args.options.count("runs"))
+    return usageError(err, "--params FILE and --runs FILE are required", kCompareUsage);
+  std::vector<TurnSlipOrientation> orientations = {TurnSlipOrientation::kLiteral, TurnSlipOrientation::kFlipped};
+  if (args.options.count("orientation") && args.options["orientation"] != "both") {
+    TurnSlipOrientation o;
+    if (!parseOrientation(args.options["orientation"], &o))
+      return usageError(err, "--orientation must be literal, flipped or both", kCompareUsage);
+    orientations = {o};
+  }
+  Preset preset = Preset::kReference;
+  if (args.options.count("preset") && !parsePreset(args.options["preset"], &preset))
+    return usageError(err, "--preset must be fast, standard or reference", kCompareUsage);
+  try {
+    const TireParams params = loadTireParams(args.options["params"]);
+    const RunTable table = readRunTable(args.options["runs"]);
+    std::ostringstream report;
+    std::ostringstream csv_text;
+    csv_text << "orientation,run,condition_id,speed_mps,slip_angle_rad,slip_ratio,path_radius_m,load_n,load_std_n,"
+                "measured_side_force_n,predicted_side_force_n,side_force_error_ratio,measured_wear_rate_kg_per_m,"
+                "predicted_wear_rate_kg_per_m,wear_error_ratio\n";
+    report << "params: " << args.options["params"] << " (" << params.name << "), runs: " << args.options["runs"]
+           << ", preset: " << presetName(preset) << "\n";
+    std::vector<std::string> summary;
+    for (TurnSlipOrientation orientation : orientations) {
+      WearModelOptions options;
+      options.preset = preset;
+      options.orientation = orientation;
+      const WearModel model(params, options);
+      const RunComparison c = compareRuns(table, wearModelPoint(model));
+      report << "\norientation: " << orientationName(orientation) << "\n";
+      char line[512];
+      std::snprintf(line, sizeof line, "%3s  %-22s %7s %8s %7s %5s | %8s %8s %7s | %8s %8s %7s\n", "run", "condition",
+                    "v0[m/s]", "alpha[deg]", "Fz[N]", "bins", "Fy_meas", "Fy_pred", "err[%]", "Wr_meas", "Wr_pred",
+                    "err[%]");
+      report << line;
+      std::snprintf(line, sizeof line, "%3s  %-22s %7s %8s %7s %5s | %8s %8s %7s | %8s %8s %7s\n", "", "", "", "", "",
+                    "", "[N]", "[N]", "", "[g/km]", "[g/km]", "");
+      report << line;
+      for (std::size_t i = 0; i < table.runs.size(); ++i) {
+        const RunRecord& run = table.runs[i];
+        const RunPrediction& p = c.runs[i];
+        const double radius_m = run.op.path_curvature_per_m == 0.0 ? 0.0 : 1.0 / run.op.path_curvature_per_m;
+        std::snprintf(line, sizeof line, "%3zu  %-22s %7s %8s %7s %5d | %8s %8s %7s | %8s %8s %7s\n", i + 1,
+                      run.condition_id.substr(0, 22).c_str(), fixed(run.op.speed_mps, 2).c_str(),
+                      fixed(run.op.slip_angle_rad / units::kDegree, 2).c_str(), fixed(run.op.load_n, 1).c_str(),
+                      p.load_bins, fixed(run.measured_side_force_n, 2).c_str(), fixed(p.side_force_n, 2).c_str(),
+                      fixed(100.0 * p.side_force_error_ratio, 1).c_str(),
+                      fixed(run.measured_wear_rate_kg_per_m / units::kGramPerKilometre, 3).c_str(),
+                      fixed(p.wear_rate_kg_per_m / units::kGramPerKilometre, 3).c_str(),
+                      fixed(100.0 * p.wear_error_ratio, 1).c_str());
+        report << line;
+        auto cell = [](double v) { return std::isnan(v) ? std::string() : csv::formatDouble(v); };
+        csv_text << orientationName(orientation) << "," << i + 1 << "," << csv::quote(run.condition_id) << ","
+                 << cell(run.op.speed_mps) << "," << cell(run.op.slip_angle_rad) << "," << cell(run.op.slip_ratio)
+                 << "," << cell(radius_m) << "," << cell(run.op.load_n) << "," << cell(run.load_std_n) << ","
+                 << cell(run.measured_side_force_n) << "," << cell(p.side_force_n) << ","
+                 << cell(p.side_force_error_ratio) << "," << cell(run.measured_wear_rate_kg_per_m) << ","
+                 << cell(p.wear_rate_kg_per_m) << "," << cell(p.wear_error_ratio) << "\n";
+      }
+      std::snprintf(line, sizeof line, "RMSER %-8s Fy = %s %% (%d runs), W_r = %s %% (%d runs)",
+                    orientationName(orientation), fixed(100.0 * c.rmser_side_force, 2).c_str(), c.n_side_force,
+                    fixed(100.0 * c.rmser_wear, 2).c_str(), c.n_wear);
+      report << line << "\n";
+      summary.push_back(line);
+    }
+    if (summary.size() > 1) {
+      report << "\n";
+      for (const std::string& s : summary) report << s << "\n";
+    }
+    if (args.options.count("csv")) {
+      std::ofstream file(args.options["csv"]);
+      file << csv_text.str();
+      file.flush();
+      if (!file) {
+        err << "error: " << args.options["csv"] << ": cannot write\n";
+        return kExitData;
+      }
+    }
+    out << report.str();
+    out.flush();
+  } catch (const std::exception& e) {
+    err << "error: " << e.what() << "\n";
+    return kExitData;
+  }
+  return 0;
+}
+
+}  // namespace tread_wear
