@@ -38,13 +38,6 @@ die() { printf '[setup] ERROR: %s\n' "$*" >&2; exit 1; }
 command -v dpkg-query >/dev/null && command -v apt-get >/dev/null ||
   die "dpkg-query/apt-get not found: this script supports Debian 12 (bookworm) only."
 
-as_root=()
-if [[ ${EUID} -ne 0 ]]; then
-  command -v sudo >/dev/null ||
-    die "not running as root and sudo is not installed: run this script as root (or install sudo)."
-  as_root=(sudo env DEBIAN_FRONTEND=noninteractive)
-fi
-
 # A package counts as installed only when its dpkg status ends in "installed"; unknown names print nothing.
 installed="$(dpkg-query -W -f='${Package} ${Status}\n' "${TREAD_WEAR_APT_PACKAGES[@]}" 2>/dev/null |
              awk '$4 == "installed" {print $1}' || true)"
@@ -54,6 +47,12 @@ for package in "${TREAD_WEAR_APT_PACKAGES[@]}"; do
 done
 
 if ((${#missing[@]} > 0)); then
+  as_root=()
+  if [[ ${EUID} -ne 0 ]]; then
+    command -v sudo >/dev/null || die "missing Debian packages (${missing[*]}), not running as root and sudo is" \
+      "not installed: run this script as root."
+    as_root=(sudo env DEBIAN_FRONTEND=noninteractive)
+  fi
   say "installing ${#missing[@]} missing Debian package(s): ${missing[*]}"
   "${as_root[@]}" apt-get update -q
   "${as_root[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
