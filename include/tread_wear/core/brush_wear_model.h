@@ -17,11 +17,23 @@
 /// BrushOptions::enter_at_road_velocity; they leave with their residual deflection.
 ///
 /// Numerics (model spec, "Numerics"): variable-step BDF2 in time along the element path on an x grid
-/// graded towards both edges, and lateral strips clustered towards the shoulders. Each implicit step
-/// treats Coulomb friction as a set-valued law at v_s = 0 (return mapping): stick if the trial stress
-/// is inside the static disc, else one monotone scalar equation for |v_s| is solved by safeguarded
-/// Newton iteration in log|v_s|. The turn-slip coupling Omega delta in v_r is resolved by fixed-point
-/// iteration. Memory is allocated once at construction; evaluate() allocates nothing.
+/// graded towards both edges, and lateral strips clustered towards the shoulders (sine-mapped
+/// midpoints or Gauss-Legendre nodes). Each implicit step treats Coulomb friction as a set-valued law
+/// at v_s = 0 (return mapping): stick if the trial stress is inside the static disc, else one monotone
+/// scalar equation for |v_s| is solved by safeguarded Newton iteration in ln|v_s| (bounded iteration
+/// count). The turn-slip coupling Omega delta in v_r is resolved by fixed-point iteration.
+///
+/// Real-time layout (docs/performance.md): everything that depends only on the grid (node positions,
+/// trapezoid weights, BDF2 coefficients, pressure shapes and their sat(p) factors, since
+/// (p/p_ref)^-q separates into an x and a y factor) is precomputed at construction; per evaluation
+/// the marcher sweeps x once with all strips side by side, so per-step quantities are computed once.
+/// The slide root starts from the previous node's root (warm start along the element path) or from the
+/// closed-form creep root mu(|v_s|) p = |trial stress|; the wear law (Eq 19) reuses ln|v_s| and
+/// |tau| = mu p (exact at the root), so it costs one exp and one log. Without turn slip and with
+/// y_e = 0 the problem is mirror-symmetric in y and only half the strips are marched.
+/// Memory: the per-strip state lives on the stack (at most GridSpec::kMaxStrips strips); evaluate()
+/// allocates nothing, is const and thread-safe; its work is bounded by n_x_steps * n_strips *
+/// turn_slip_iterations * (BrushOptions::max_root_iterations + 1) friction evaluations.
 ///
 /// Outputs: Fx, Fy, Mz; W_r [kg/m] and wear per time [kg/s]; area fractions of stick by the paper's
 /// Section 4 definition (v_s <= v_m) and of exact stick (v_s = 0); optionally the local fields.
@@ -38,11 +50,20 @@
 
 namespace tread_wear {
 
+/// Lateral quadrature rule across the width y/b in [-1, 1].
+enum class LateralRule {
+  kSineMidpoint,  ///< midpoints of n equal cells in t, mapped y/b = sin(pi t/2) (clusters at the shoulders)
+  kGaussLegendre  ///< Gauss-Legendre nodes and weights (also clustered at the shoulders)
+};
+
 /// Discretisation of the contact patch.
 struct GridSpec {
+  static constexpr int kMaxStrips = 256;  ///< bound of n_strips (the per-strip state lives on the stack)
+
   int n_x_steps = 200;        ///< element time steps across the contact length [-], >= 4
-  int n_strips = 16;          ///< lateral strips [-], >= 1
+  int n_strips = 16;          ///< lateral strips [-], 1..kMaxStrips
   double edge_grading = 0.8;  ///< beta in x = a((1-beta) s + beta sin(pi s/2)): 0 uniform, -> 1 fine edges
+  LateralRule lateral_rule = LateralRule::kSineMidpoint;
 
   bool validate(std::string* error) const;
 };
@@ -58,6 +79,10 @@ struct BrushOptions {
   bool enter_at_road_velocity = false;  ///< leading-edge alternative of the model spec (u = v_r)
   int turn_slip_iterations = 3;         ///< fixed-point passes for the Omega delta coupling, >= 1
   double creep_floor_mps = 1e-14;       ///< |v_s| below this counts as v_s -> 0+ (creep at the static limit)
+  int max_root_iterations = 40;         ///< bound on Newton/bisection steps per slide root, >= 1
+  double root_tolerance = 1e-7;         ///< stop when the Newton step in ln|v_s| is below this [-], (0, 1e-3];
+                                        ///< the last step is applied, so the error is O(tolerance^2)
+  bool use_symmetry = true;             ///< march half the strips when straight (Omega = 0) and y_e = 0
 
   bool validate(std::string* error) const;
 };
@@ -75,6 +100,7 @@ struct WearResult {
   double half_length_m = 0.0;         ///< contact half length a [m]
   double half_width_m = 0.0;          ///< contact half width b [m]
   int max_root_iterations = 0;        ///< worst scalar-solver iteration count in this evaluation [-]
+  long root_iterations = 0;           ///< total scalar-solver iterations in this evaluation [-]
 };
 
 /// Local fields on the grid (node-major: index = i * n_strips + j, i along x from the leading edge).
@@ -101,7 +127,7 @@ class BrushWearModel {
   BrushWearModel(const TireParams& params, const BrushOptions& options);
 
   /// Evaluates one steady operating point. The point must satisfy OperatingPoint::validate() and
-  /// have speed_mps > 0. Writes into caller-owned storage; allocates nothing.
+  /// have speed_mps > 0 (then V_r > 0 too). Writes into caller-owned storage; allocates nothing.
   /// @param[in] op operating point
   /// @param[out] result global outputs
   /// @param[out] fields optional local fields, pre-sized with fields->resize(nodesX(), strips())
@@ -113,16 +139,26 @@ class BrushWearModel {
   const BrushOptions& options() const { return options_; }
 
  private:
-  struct StripResult;
+  /// Per x step (from node i to node i+1), grid-only quantities.
+  struct Step {
+    double ds;     ///< s_i - s_{i+1} [-]
+    double a1;     ///< BDF2 coefficient on the state at node i [-]
+    double a2;     ///< BDF2 coefficient on the state at node i-1 [-]
+    double beta;   ///< BDF2 coefficient on the step (g = beta h) [-]
+    double w;      ///< step ratio h_i / h_{i-1} [-] (1 on the first step)
+  };
   TireParams params_;
   BrushOptions options_;
   SavkoorFriction friction_;
-  std::vector<double> s_;        ///< mapped node coordinate x/a, from +1 to -1
-  std::vector<double> wx_;       ///< trapezoid weight in x/a
-  std::vector<double> gx_even_;  ///< even part of g_x at the nodes
-  std::vector<double> eta_;      ///< strip centre y/b
-  std::vector<double> wy_;       ///< strip width in y/b
-  std::vector<double> gy_;       ///< g_y at the strip centres
+  std::vector<double> s_;          ///< mapped node coordinate x/a, from +1 to -1
+  std::vector<double> wx_;         ///< trapezoid weight in x/a
+  std::vector<double> gx_even_;    ///< even part of g_x at the nodes
+  std::vector<Step> steps_;        ///< per-step BDF2 coefficients
+  std::vector<double> eta_;        ///< strip centre y/b
+  std::vector<double> wy_;         ///< strip weight in y/b (sums to 2)
+  std::vector<double> gy_;         ///< g_y at the strip centres
+  std::vector<double> sat_y_;      ///< g_y^-q at the strip centres (y factor of sat(p))
+  bool y_symmetric_ = false;       ///< g_y even (y_e = 0) and the strip rule mirror-symmetric
 };
 
 }  // namespace tread_wear
