@@ -65,7 +65,8 @@ namespace tread_wear {
 
 struct ReferenceSolverOptions {
   int n_strips = 24;                     ///< Gauss-Legendre nodes across the width [-], 1..256
-  double rel_tol = 1e-9;                 ///< CVODE relative tolerance (states and quadratures) [-], (0, 1e-3]
+  int lateral_map_order = 1;             ///< k of the shoulder map eta = phi(xi), phi' ~ (1 - xi^2)^k [-], 0..3
+  double rel_tol = 1e-8;                 ///< CVODE relative tolerance (states and quadratures) [-], (0, 1e-3]
   double abs_tol_factor = 1e-3;          ///< absolute tolerance = rel_tol * factor * natural scale [-], > 0
   double stop_speed_mps = 1e-8;          ///< below this |v_s| a slider may stick again [m/s], (0, 1e-6]
   double start_speed_mps = 1e-12;        ///< |v_s| with which slip starts from stick [m/s], < stop speed

@@ -1,0 +1,25 @@
+#pragma once
+/// @file convergence_study.h
+/// Convergence study of the two solvers of the brush wear model on the paper's Table 3 rig
+/// conditions (7 unique conditions of Tables 2-3, Grosch wheel on the 60 mm track, alpha negative and
+/// path curvature +1/R_t as in operating_point.h): the reference solver (reference_solver.h) at its
+/// chosen settings and at coarser ones, and the marcher (brush_wear_model.h) on a ladder of grids,
+/// all against the reference solver refined 4x in strips with its tolerance divided by 100.
+/// Prints Markdown tables (docs/convergence.md). Not for the real-time path: a study takes ~1 min.
+
+#include <ostream>
+#include <vector>
+
+#include "tread_wear/core/operating_point.h"
+
+namespace tread_wear {
+
+/// The 7 unique Table 3 conditions (v0 [m/s], alpha [deg], Fz [N]) as operating points on the rig:
+/// speed v0, slip angle -alpha, path curvature +1/0.060 m.
+std::vector<OperatingPoint> table3RigConditions();
+
+/// tread_wear_convergence [--params FILE] [--orientation literal|flipped|both] [--quick]
+/// Returns 0 on success, 2 on a usage error (message on err).
+int runConvergenceCli(int argc, const char* const argv[], std::ostream& out, std::ostream& err);
+
+}  // namespace tread_wear
