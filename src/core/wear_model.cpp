@@ -1,5 +1,8 @@
 #include "tread_wear/core/wear_model.h"
 
+#include <chrono>
+#include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace tread_wear {
@@ -27,41 +30,106 @@ BrushOptions presetOptions(Preset preset, TurnSlipOrientation orientation) {
   BrushOptions o;
   o.orientation = orientation;
   switch (preset) {
-    case Preset::kFast: o.grid = {24, 4, 0.8}; o.turn_slip_iterations = 1; break;
-    case Preset::kStandard: o.grid = {60, 8, 0.8}; o.turn_slip_iterations = 2; break;
-    case Preset::kReference: o.grid = {1600, 64, 0.8}; o.turn_slip_iterations = 3; break;
+    // Grids chosen from the accuracy study in docs/performance.md (errors measured, not assumed).
+    case Preset::kFast:
+      o.grid = {40, 6, 0.9, LateralRule::kGaussLegendre};
+      o.turn_slip_iterations = 1;
+      o.root_tolerance = 1e-3;
+      break;
+    case Preset::kStandard:
+      o.grid = {80, 8, 0.9, LateralRule::kGaussLegendre};
+      o.turn_slip_iterations = 1;
+      o.root_tolerance = 1e-4;
+      break;
+    case Preset::kReference:
+      o.grid = {1600, 64, 0.8, LateralRule::kSineMidpoint};
+      o.turn_slip_iterations = 3;
+      o.root_tolerance = 1e-7;
+      break;
   }
   return o;
 }
 
 bool WearModelOptions::validate(std::string* error) const {
-  if (!(min_speed_mps > 0.0)) {
-    if (error) *error = "min_speed_mps = " + std::to_string(min_speed_mps) + ": must be > 0";
+  auto fail = [error](const std::string& field, double value, const char* constraint) {
+    if (error) *error = field + " = " + std::to_string(value) + ": must be " + constraint;
     return false;
-  }
+  };
+  if (!(min_speed_mps > 0.0) || !std::isfinite(min_speed_mps)) return fail("min_speed_mps", min_speed_mps, "finite and > 0");
+  if (!(min_rolling_speed_mps > 0.0 && min_rolling_speed_mps <= min_speed_mps))
+    return fail("min_rolling_speed_mps", min_rolling_speed_mps, "in (0, min_speed_mps]");
+  if (!(time_budget_s >= 0.0) || !std::isfinite(time_budget_s))
+    return fail("time_budget_s", time_budget_s, "finite and >= 0 (0 = no budget)");
+  if (budget_probe_interval < 1) return fail("budget_probe_interval", budget_probe_interval, ">= 1");
+  if (!(timing_smoothing > 0.0 && timing_smoothing <= 1.0)) return fail("timing_smoothing", timing_smoothing, "in (0, 1]");
   return true;
 }
 
 WearModel::WearModel(const TireParams& params, const WearModelOptions& options)
-    : params_(params), options_(options), active_(options.preset) {
+    : params_(params),
+      options_(options),
+      wanted_(options.preset),
+      budget_s_(options.time_budget_s),
+      active_(options.preset) {
   std::string error;
   if (!options.validate(&error)) throw std::invalid_argument("invalid wear model options: " + error);
   for (Preset p : {Preset::kFast, Preset::kStandard, Preset::kReference})
     solvers_[static_cast<int>(p)] = std::make_unique<BrushWearModel>(params, presetOptions(p, options.orientation));
+  timing_s_.fill(std::numeric_limits<double>::quiet_NaN());
+}
+
+void WearModel::setTimeBudget(double seconds) {
+  if (!(seconds >= 0.0) || !std::isfinite(seconds))
+    throw std::invalid_argument("time budget = " + std::to_string(seconds) + " s: must be finite and >= 0");
+  budget_s_ = seconds;
+}
+
+void WearModel::recordTiming(Preset preset, double seconds) const {
+  double& t = timing_s_[static_cast<int>(preset)];
+  t = std::isnan(t) ? seconds : t + options_.timing_smoothing * (seconds - t);
+}
+
+Preset WearModel::choosePreset() const {
+  if (budget_s_ <= 0.0) return wanted_;
+  int p = static_cast<int>(wanted_);
+  // Unmeasured presets count as fitting, so that each gets measured once.
+  while (p > 0 && timing_s_[p] > budget_s_) --p;
+  if (p < static_cast<int>(wanted_) && since_probe_ >= options_.budget_probe_interval) ++p;  // probe finer
+  return static_cast<Preset>(p);
 }
 
 EvalStatus WearModel::evaluate(const OperatingPoint& op, WearResult* result, PatchFields* fields) const {
   if (!op.validate(nullptr)) return EvalStatus::kInvalidInput;
-  const BrushWearModel& solver = *solvers_[static_cast<int>(active_)];
-  if (op.speed_mps >= options_.min_speed_mps) {
-    solver.evaluate(op, result, fields);
-    return EvalStatus::kOk;
+  const Preset preset = choosePreset();
+  const BrushWearModel& solver = *solvers_[static_cast<int>(preset)];
+  OperatingPoint eval_op = op;
+  EvalStatus status = EvalStatus::kOk;
+  if (op.speed_mps < options_.min_speed_mps) {
+    eval_op.speed_mps = options_.min_speed_mps;
+    status = EvalStatus::kLowSpeed;
   }
-  OperatingPoint slow = op;
-  slow.speed_mps = options_.min_speed_mps;
-  solver.evaluate(slow, result, fields);
-  result->wear_rate_kg_per_s = result->wear_rate_kg_per_m * op.speed_mps;
-  return EvalStatus::kLowSpeed;
+  const double vx = eval_op.longitudinalSpeed();  // > 0: speed > 0 and |alpha| < pi/2
+  if (eval_op.rollingSpeed() < options_.min_rolling_speed_mps) {
+    eval_op.slip_ratio = options_.min_rolling_speed_mps / vx - 1.0;
+    status = EvalStatus::kLowSpeed;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  solver.evaluate(eval_op, result, fields);
+  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (status == EvalStatus::kLowSpeed) result->wear_rate_kg_per_s = result->wear_rate_kg_per_m * op.speed_mps;
+
+  if (static_cast<int>(preset) > static_cast<int>(active_)) since_probe_ = 0;  // a probe or a recovery
+  active_ = preset;
+  if (budget_s_ > 0.0) {
+    recordTiming(preset, elapsed);
+    if (preset != wanted_) {
+      ++degraded_count_;
+      ++since_probe_;
+    } else {
+      since_probe_ = 0;
+    }
+  }
+  return status;
 }
 
 }  // namespace tread_wear

@@ -1,0 +1,102 @@
+/// Accuracy table of the wear-model presets against a fine reference (docs/performance.md).
+///   tread_wear_accuracy [--road-params FILE] [--coarse] [--grid NX NY GRADING sine|gauss PASSES TOL]...
+/// Prints, for each preset (and each --grid candidate), the maximum error over the Table 3 rig grid
+/// (Grosch wheel, both orientations) and the road grid (road tire), with the worst condition.
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "bench_conditions.h"
+#include "tread_wear/core/params_io.h"
+#include "tread_wear/core/wear_model.h"
+
+using namespace tread_wear;
+
+namespace {
+
+struct Candidate {
+  std::string name;
+  BrushOptions options;
+};
+
+std::vector<WearResult> evaluateAll(const TireParams& params, const BrushOptions& base,
+                                    const std::vector<bench::Condition>& conditions) {
+  BrushOptions lit = base, flip = base;
+  lit.orientation = TurnSlipOrientation::kLiteral;
+  flip.orientation = TurnSlipOrientation::kFlipped;
+  const BrushWearModel m_lit(params, lit), m_flip(params, flip);
+  std::vector<WearResult> out(conditions.size());
+  for (size_t k = 0; k < conditions.size(); ++k)
+    (conditions[k].orientation == TurnSlipOrientation::kLiteral ? m_lit : m_flip).evaluate(conditions[k].op, &out[k]);
+  return out;
+}
+
+void report(const std::string& name, const std::string& set, const std::vector<bench::Condition>& conditions,
+            const std::vector<WearResult>& ref, const std::vector<WearResult>& res) {
+  bench::Errors worst;
+  size_t worst_k[3] = {0, 0, 0};
+  double worst_v[3] = {0, 0, 0};
+  for (size_t k = 0; k < conditions.size(); ++k) {
+    const bench::Errors e = bench::compare(ref[k], res[k], conditions[k].op.load_n);
+    worst.maxWith(e);
+    const double f = std::max({e.fx, e.fy, e.mz}) / 0.01, w = e.wear / 0.02, a = std::max(e.stick, e.exact_stick) / 0.02;
+    const double v[3] = {f, w, a};
+    for (int q = 0; q < 3; ++q)
+      if (v[q] > worst_v[q]) worst_v[q] = v[q], worst_k[q] = k;
+  }
+  std::printf("%-28s %-5s %7.3f%% %7.3f%% %7.3f%% %7.3f%% %7.4f %7.4f | worst F: %s | worst W: %s\n", name.c_str(),
+              set.c_str(), 100 * worst.fx, 100 * worst.fy, 100 * worst.mz, 100 * worst.wear, worst.stick,
+              worst.exact_stick, conditions[worst_k[0]].label.c_str(), conditions[worst_k[1]].label.c_str());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string road_params_path;  // default: the Grosch wheel (see docs/performance.md for why not the passenger tire)
+  bool coarse = false;
+  std::vector<Candidate> candidates;
+  for (Preset p : {Preset::kFast, Preset::kStandard}) candidates.push_back({presetName(p), presetOptions(p)});
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--road-params") && i + 1 < argc) {
+      road_params_path = argv[++i];
+    } else if (!std::strcmp(argv[i], "--coarse")) {
+      coarse = true;
+    } else if (!std::strcmp(argv[i], "--grid") && i + 6 < argc) {
+      Candidate c;
+      c.options.grid.n_x_steps = std::atoi(argv[i + 1]);
+      c.options.grid.n_strips = std::atoi(argv[i + 2]);
+      c.options.grid.edge_grading = std::atof(argv[i + 3]);
+      c.options.grid.lateral_rule = std::strcmp(argv[i + 4], "gauss") ? LateralRule::kSineMidpoint : LateralRule::kGaussLegendre;
+      c.options.turn_slip_iterations = std::atoi(argv[i + 5]);
+      c.options.root_tolerance = std::atof(argv[i + 6]);
+      c.name = std::string(argv[i + 1]) + "x" + argv[i + 2] + " g" + argv[i + 3] + " " + argv[i + 4] + " p" + argv[i + 5] +
+               " t" + argv[i + 6];
+      candidates.push_back(c);
+      i += 6;
+    } else {
+      std::fprintf(stderr, "usage: %s [--road-params FILE] [--coarse] [--grid NX NY GRADING sine|gauss PASSES TOL]...\n",
+                   argv[0]);
+      return 2;
+    }
+  }
+  const TireParams grosch;
+  TireParams road = grosch;
+  if (!road_params_path.empty()) road = loadTireParams(road_params_path);
+  const double nominal = road.name == grosch.name ? 100.0 : 4000.0;
+  const auto rig = bench::rigConditions();
+  const auto roadset = bench::roadConditions(nominal, coarse);
+  std::printf("reference: marcher preset 'reference' (%d x %d); road tire: %s (nominal load %.0f N), %zu road and %zu rig conditions\n",
+              presetOptions(Preset::kReference).grid.n_x_steps, presetOptions(Preset::kReference).grid.n_strips,
+              road.name.c_str(), nominal, roadset.size(), rig.size());
+  const auto ref_rig = evaluateAll(grosch, presetOptions(Preset::kReference), rig);
+  const auto ref_road = evaluateAll(road, presetOptions(Preset::kReference), roadset);
+  std::printf("%-28s %-5s %8s %8s %8s %8s %7s %7s\n", "preset", "grid", "Fx", "Fy", "Mz", "W_r", "stick", "exact");
+  for (const Candidate& c : candidates) {
+    report(c.name, "rig", rig, ref_rig, evaluateAll(grosch, c.options, rig));
+    report(c.name, "road", roadset, ref_road, evaluateAll(road, c.options, roadset));
+  }
+  return 0;
+}

@@ -1,0 +1,114 @@
+#pragma once
+/// @file bench_conditions.h
+/// Condition grids and error measures shared by the wear-model benchmark and accuracy programs
+/// (docs/performance.md). Header-only; used by bench/ only.
+///
+/// Grids:
+///  - rig: the seven distinct conditions of the paper's Table 3 (v0, alpha, Fz) as the Grip and
+///    Abrasion Test Stand runs them (slip_angle = -alpha, path radius +60 mm), in both orientations.
+///  - road: load x slip angle (past the force peak, which is near 15 deg for the Grosch wheel at 100 N)
+///    x slip ratio in [-0.2, 0.2] x speed 0.5..40 m/s x path curvature (straight and R = 5 m).
+/// Error measures against a reference result (documented in docs/performance.md):
+///  - Fx, Fy: |F - F_ref| / max(|F_ref|, 0.05 |(Fx, Fy)_ref|, 0.005 Fz): relative, with an absolute
+///    floor for a component that is near zero while the other carries the force (and for F ~ 0).
+///  - Mz: |Mz - Mz_ref| / max(|Mz_ref|, a * floor_F) where floor_F is the force floor above, a the
+///    contact half length (the natural lever arm; Mz changes sign past the force peak).
+///  - W_r: relative (W_r >= w4 * area / V > 0 always). Area fractions: absolute.
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "tread_wear/core/brush_wear_model.h"
+#include "tread_wear/core/units.h"
+
+namespace tread_wear {
+namespace bench {
+
+struct Condition {
+  OperatingPoint op;
+  TurnSlipOrientation orientation = TurnSlipOrientation::kLiteral;
+  std::string label;
+};
+
+inline std::vector<Condition> rigConditions() {
+  const double table3[7][3] = {{1, 10, 75}, {2, 10, 75}, {3, 10, 75}, {2, 5, 75}, {2, 15, 75}, {2, 10, 50}, {2, 10, 100}};
+  std::vector<Condition> out;
+  for (TurnSlipOrientation o : {TurnSlipOrientation::kLiteral, TurnSlipOrientation::kFlipped}) {
+    for (const auto& row : table3) {
+      Condition c;
+      c.op.speed_mps = row[0];
+      c.op.slip_angle_rad = -row[1] * units::kDegree;
+      c.op.load_n = row[2];
+      c.op.path_curvature_per_m = 1.0 / 0.060;
+      c.orientation = o;
+      c.label = std::string(o == TurnSlipOrientation::kLiteral ? "literal" : "flipped") + " v0=" +
+                std::to_string(row[0]).substr(0, 3) + " alpha=" + std::to_string(row[1]).substr(0, 4) +
+                " Fz=" + std::to_string(row[2]).substr(0, 5);
+      out.push_back(c);
+    }
+  }
+  return out;
+}
+
+/// Road-tire grid scaled to the tire: loads as fractions of nominal_load_n.
+inline std::vector<Condition> roadConditions(double nominal_load_n, bool coarse = false) {
+  std::vector<double> loads{0.5, 1.0, 1.5}, alphas{0, 1, 3, 6, 10, 15, 25}, kappas{-0.2, -0.05, 0, 0.05, 0.2},
+      speeds{0.5, 5, 20, 40}, curvatures{0.0, 0.2};
+  if (coarse) {
+    loads = {0.5, 1.5};
+    alphas = {0, 3, 10, 25};
+    kappas = {-0.2, 0, 0.05};
+    speeds = {0.5, 20};
+  }
+  std::vector<Condition> out;
+  for (double l : loads)
+    for (double al : alphas)
+      for (double k : kappas)
+        for (double v : speeds)
+          for (double c : curvatures) {
+            Condition cd;
+            cd.op.load_n = l * nominal_load_n;
+            cd.op.slip_angle_rad = al * units::kDegree;
+            cd.op.slip_ratio = k;
+            cd.op.speed_mps = v;
+            cd.op.path_curvature_per_m = c;
+            cd.label = "Fz=" + std::to_string(cd.op.load_n).substr(0, 6) + " alpha=" + std::to_string(al).substr(0, 4) +
+                       " kappa=" + std::to_string(k).substr(0, 5) + " V=" + std::to_string(v).substr(0, 4) +
+                       " curv=" + std::to_string(c).substr(0, 3);
+            out.push_back(cd);
+          }
+  return out;
+}
+
+/// Errors of one result against its reference (see the file comment for the scales).
+struct Errors {
+  double fx = 0, fy = 0, mz = 0, wear = 0, stick = 0, slide = 0, exact_stick = 0;
+
+  void maxWith(const Errors& e) {
+    fx = std::max(fx, e.fx);
+    fy = std::max(fy, e.fy);
+    mz = std::max(mz, e.mz);
+    wear = std::max(wear, e.wear);
+    stick = std::max(stick, e.stick);
+    slide = std::max(slide, e.slide);
+    exact_stick = std::max(exact_stick, e.exact_stick);
+  }
+};
+
+inline Errors compare(const WearResult& ref, const WearResult& r, double load_n) {
+  const double f_floor = std::max(0.05 * std::hypot(ref.fx_n, ref.fy_n), 0.005 * load_n);
+  Errors e;
+  e.fx = std::fabs(r.fx_n - ref.fx_n) / std::max(std::fabs(ref.fx_n), f_floor);
+  e.fy = std::fabs(r.fy_n - ref.fy_n) / std::max(std::fabs(ref.fy_n), f_floor);
+  e.mz = std::fabs(r.mz_nm - ref.mz_nm) / std::max(std::fabs(ref.mz_nm), ref.half_length_m * f_floor);
+  e.wear = std::fabs(r.wear_rate_kg_per_m - ref.wear_rate_kg_per_m) / ref.wear_rate_kg_per_m;
+  e.stick = std::fabs(r.stick_fraction - ref.stick_fraction);
+  e.slide = std::fabs(r.slide_fraction - ref.slide_fraction);
+  e.exact_stick = std::fabs(r.exact_stick_fraction - ref.exact_stick_fraction);
+  return e;
+}
+
+}  // namespace bench
+}  // namespace tread_wear

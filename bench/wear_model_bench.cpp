@@ -1,0 +1,92 @@
+/// Time per wheel evaluation of the wear-model presets (docs/performance.md), Google Benchmark.
+///   tread_wear_bench [--benchmark_repetitions=N ...]
+/// Each benchmark evaluates every condition of a grid once per iteration and reports, per evaluation:
+/// median and p99 over all (condition, repetition) samples, timed one by one with a steady clock
+/// (counters median_us, p99_us, max_us), and the maximum error against the marcher's reference preset
+/// (counters err_F_pct = max over Fx, Fy, Mz; err_W_pct; err_frac = max over stick and exact-stick
+/// fractions), measured once per benchmark. Grids and error scales: bench_conditions.h.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <map>
+#include <vector>
+
+#include "bench_conditions.h"
+#include "tread_wear/core/wear_model.h"
+
+using namespace tread_wear;
+
+namespace {
+
+const std::vector<bench::Condition>& grid(int which) {
+  static const std::vector<bench::Condition> rig = bench::rigConditions();
+  static const std::vector<bench::Condition> road = bench::roadConditions(100.0);
+  return which == 0 ? rig : road;
+}
+
+std::vector<WearResult> evaluateGrid(const BrushWearModel& lit, const BrushWearModel& flip,
+                                     const std::vector<bench::Condition>& conds) {
+  std::vector<WearResult> out(conds.size());
+  for (size_t k = 0; k < conds.size(); ++k)
+    (conds[k].orientation == TurnSlipOrientation::kLiteral ? lit : flip).evaluate(conds[k].op, &out[k]);
+  return out;
+}
+
+const std::vector<WearResult>& reference(int which) {
+  static std::map<int, std::vector<WearResult>> cache;
+  auto it = cache.find(which);
+  if (it != cache.end()) return it->second;
+  const TireParams params;
+  const BrushWearModel lit(params, presetOptions(Preset::kReference, TurnSlipOrientation::kLiteral));
+  const BrushWearModel flip(params, presetOptions(Preset::kReference, TurnSlipOrientation::kFlipped));
+  return cache[which] = evaluateGrid(lit, flip, grid(which));
+}
+
+void BM_Evaluate(benchmark::State& state) {
+  const Preset preset = static_cast<Preset>(state.range(0));
+  const int which = static_cast<int>(state.range(1));
+  const auto& conds = grid(which);
+  const TireParams params;
+  const BrushWearModel lit(params, presetOptions(preset, TurnSlipOrientation::kLiteral));
+  const BrushWearModel flip(params, presetOptions(preset, TurnSlipOrientation::kFlipped));
+  std::vector<double> samples;
+  samples.reserve(conds.size() * 64);
+  WearResult r;
+  for (auto _ : state) {
+    for (const auto& c : conds) {
+      const BrushWearModel& m = c.orientation == TurnSlipOrientation::kLiteral ? lit : flip;
+      const auto t0 = std::chrono::steady_clock::now();
+      m.evaluate(c.op, &r);
+      const auto t1 = std::chrono::steady_clock::now();
+      benchmark::DoNotOptimize(r);
+      if (samples.size() < samples.capacity()) samples.push_back(std::chrono::duration<double>(t1 - t0).count());
+    }
+  }
+  std::sort(samples.begin(), samples.end());
+  auto pct = [&](double q) { return samples.empty() ? 0.0 : samples[std::min(samples.size() - 1, size_t(q * samples.size()))]; };
+  state.counters["median_us"] = pct(0.5) * 1e6;
+  state.counters["p99_us"] = pct(0.99) * 1e6;
+  state.counters["max_us"] = samples.empty() ? 0.0 : samples.back() * 1e6;
+  state.counters["evals"] = benchmark::Counter(double(conds.size()), benchmark::Counter::kIsIterationInvariantRate,
+                                               benchmark::Counter::OneK::kIs1000);
+  if (preset != Preset::kReference) {
+    const auto res = evaluateGrid(lit, flip, conds);
+    const auto& ref = reference(which);
+    bench::Errors worst;
+    for (size_t k = 0; k < conds.size(); ++k) worst.maxWith(bench::compare(ref[k], res[k], conds[k].op.load_n));
+    state.counters["err_F_pct"] = 100.0 * std::max({worst.fx, worst.fy, worst.mz});
+    state.counters["err_W_pct"] = 100.0 * worst.wear;
+    state.counters["err_frac"] = std::max(worst.stick, worst.exact_stick);
+  }
+  state.SetLabel(std::string(presetName(preset)) + (which == 0 ? " rig(Table 3)" : " road grid"));
+}
+
+}  // namespace
+
+BENCHMARK(BM_Evaluate)
+    ->ArgsProduct({{0, 1, 2}, {0, 1}})
+    ->Unit(benchmark::kMicrosecond)
+    ->MinTime(0.5);
+
+BENCHMARK_MAIN();

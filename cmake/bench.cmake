@@ -1,0 +1,12 @@
+# Benchmarks and accuracy tables of the wear-model presets (docs/performance.md); only with Google Benchmark.
+find_package(benchmark QUIET)
+if(benchmark_FOUND)
+  add_executable(tread_wear_bench ${PROJECT_SOURCE_DIR}/bench/wear_model_bench.cpp)
+  target_link_libraries(tread_wear_bench tread_wear_core benchmark::benchmark)
+  target_compile_definitions(tread_wear_bench PRIVATE TREAD_WEAR_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+  add_executable(tread_wear_accuracy ${PROJECT_SOURCE_DIR}/bench/accuracy_main.cpp)
+  target_link_libraries(tread_wear_accuracy tread_wear_core)
+  target_compile_definitions(tread_wear_accuracy PRIVATE TREAD_WEAR_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+else()
+  message(STATUS "Google Benchmark not found: tread_wear_bench and tread_wear_accuracy are not built")
+endif()
