@@ -1,0 +1,182 @@
+// WearModel facade: low-speed conventions (standstill, tiny speed, the threshold, locked wheel), the
+// time-budget preset choice with injected timings, and invalid inputs and options.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "tread_wear/core/units.h"
+#include "tread_wear/core/wear_model.h"
+
+namespace tread_wear {
+namespace {
+
+OperatingPoint rigPoint(double speed) {
+  OperatingPoint op;  // Table 3 benchmark condition on the rig
+  op.speed_mps = speed;
+  op.slip_angle_rad = -10.0 * units::kDegree;
+  op.load_n = 75.0;
+  op.path_curvature_per_m = 1.0 / 0.060;
+  return op;
+}
+
+WearModelOptions fastOptions() {
+  WearModelOptions o;
+  o.preset = Preset::kFast;
+  return o;
+}
+
+TEST(WearModelLowSpeed, StandstillGivesZeroWearPerTimeAndFiniteOutputs) {
+  const WearModel model(TireParams(), fastOptions());
+  WearResult r;
+  EXPECT_EQ(model.evaluate(rigPoint(0.0), &r), EvalStatus::kLowSpeed);
+  EXPECT_EQ(r.wear_rate_kg_per_s, 0.0);  // no rolling, no sliding: exactly zero
+  EXPECT_TRUE(std::isfinite(r.wear_rate_kg_per_m));
+  EXPECT_GT(r.wear_rate_kg_per_m, 0.0);
+  EXPECT_TRUE(std::isfinite(r.fy_n) && std::isfinite(r.mz_nm) && std::isfinite(r.fx_n));
+}
+
+TEST(WearModelLowSpeed, BelowThresholdHoldsWearPerDistanceAndScalesWearPerTime) {
+  const WearModel model(TireParams(), fastOptions());
+  const double v_min = model.options().min_speed_mps;
+  WearResult at_threshold, tiny, half;
+  EXPECT_EQ(model.evaluate(rigPoint(v_min), &at_threshold), EvalStatus::kOk);
+  EXPECT_EQ(model.evaluate(rigPoint(1e-9), &tiny), EvalStatus::kLowSpeed);
+  EXPECT_EQ(model.evaluate(rigPoint(0.5 * v_min), &half), EvalStatus::kLowSpeed);
+  // The convention: the threshold point's W_r and forces, wear per time = W_r V (continuous at v_min).
+  EXPECT_DOUBLE_EQ(tiny.wear_rate_kg_per_m, at_threshold.wear_rate_kg_per_m);
+  EXPECT_DOUBLE_EQ(tiny.fy_n, at_threshold.fy_n);
+  EXPECT_DOUBLE_EQ(half.wear_rate_kg_per_s, 0.5 * at_threshold.wear_rate_kg_per_s);
+  EXPECT_DOUBLE_EQ(tiny.wear_rate_kg_per_s, at_threshold.wear_rate_kg_per_m * 1e-9);
+}
+
+TEST(WearModelLowSpeed, LockedWheelRollingSpeedIsFloored) {
+  const WearModel model(TireParams(), fastOptions());
+  OperatingPoint op;
+  op.speed_mps = 1.0;
+  op.load_n = 100.0;
+  op.slip_ratio = -1.0 + 1e-12;  // V_r = 1e-12 m/s: element transit time ~1e10 s without the floor
+  WearResult r;
+  EXPECT_EQ(model.evaluate(op, &r), EvalStatus::kLowSpeed);
+  // Full sliding at V - V_r ~ V: a braking force (Fx < 0, ISO) bounded by the peak friction.
+  EXPECT_TRUE(std::isfinite(r.fx_n));
+  EXPECT_LT(r.fx_n, 0.0);
+  const FrictionParams& f = model.params().friction;
+  const double sat_max = std::pow(f.p_0_pa / f.p_ref_pa, -f.q);  // largest sat(p)
+  EXPECT_LT(-r.fx_n, sat_max * f.mu_m * op.load_n);
+  EXPECT_LT(r.stick_fraction, 0.05);  // nearly everything slides faster than v_m
+  OperatingPoint rolling = op;
+  rolling.slip_ratio = -0.5;  // V_r well above the floor: untouched
+  EXPECT_EQ(model.evaluate(rolling, &r), EvalStatus::kOk);
+}
+
+TEST(WearModelBudget, PicksFinestPresetThatFitsFromInjectedTimings) {
+  WearModelOptions o;
+  o.preset = Preset::kStandard;
+  o.time_budget_s = 50e-6;
+  o.budget_probe_interval = 3;
+  o.timing_smoothing = 1.0;  // the last time counts alone, so injected timings decide exactly
+  const WearModel model(TireParams(), o);
+  EXPECT_EQ(model.choosePreset(), Preset::kStandard);  // unmeasured: assumed to fit
+  model.recordTiming(Preset::kStandard, 80e-6);
+  model.recordTiming(Preset::kFast, 10e-6);
+  EXPECT_EQ(model.choosePreset(), Preset::kFast);
+  model.recordTiming(Preset::kStandard, 40e-6);
+  EXPECT_EQ(model.choosePreset(), Preset::kStandard);
+  model.recordTiming(Preset::kReference, 1e-9);  // finer than wanted: never chosen
+  EXPECT_EQ(model.choosePreset(), Preset::kStandard);
+}
+
+TEST(WearModelBudget, ReportsDegradingAndProbesFinerPresetPeriodically) {
+  WearModelOptions o;
+  o.preset = Preset::kStandard;
+  o.time_budget_s = 1e-12;  // nothing fits: every measured preset is over budget
+  o.budget_probe_interval = 3;
+  const WearModel model(TireParams(), o);
+  WearResult r;
+  model.evaluate(rigPoint(2.0), &r);  // standard, unmeasured: tried once and measured
+  EXPECT_EQ(model.activePreset(), Preset::kStandard);
+  EXPECT_FALSE(model.degraded());
+  EXPECT_GT(model.timing(Preset::kStandard), 0.0);
+  std::vector<Preset> used;
+  for (int k = 0; k < 8; ++k) {
+    model.evaluate(rigPoint(2.0), &r);
+    used.push_back(model.activePreset());
+  }
+  // Fast for probe_interval evaluations, then one probe of standard, then fast again.
+  const std::vector<Preset> expected{Preset::kFast, Preset::kFast, Preset::kFast, Preset::kStandard,
+                                     Preset::kFast, Preset::kFast, Preset::kFast, Preset::kStandard};
+  EXPECT_EQ(used, expected);
+  EXPECT_EQ(model.degradedCount(), 6);
+  EXPECT_TRUE(std::isfinite(r.fy_n));
+}
+
+TEST(WearModelBudget, NoBudgetUsesWantedPresetAndNeverDegrades) {
+  const WearModel model(TireParams(), fastOptions());
+  WearResult r;
+  for (int k = 0; k < 3; ++k) model.evaluate(rigPoint(2.0), &r);
+  EXPECT_EQ(model.activePreset(), Preset::kFast);
+  EXPECT_EQ(model.degradedCount(), 0);
+  EXPECT_TRUE(std::isnan(model.timing(Preset::kFast)));  // not timed without a budget
+}
+
+TEST(WearModelInput, InvalidPointsAreRejectedAndLeaveTheResultUntouched) {
+  const WearModel model(TireParams(), fastOptions());
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  WearResult r;
+  r.fy_n = 123.0;
+  for (auto mutate : std::vector<void (*)(OperatingPoint*)>{
+           [](OperatingPoint* p) { p->speed_mps = -1.0; },
+           [](OperatingPoint* p) { p->load_n = 0.0; },
+           [](OperatingPoint* p) { p->slip_ratio = -1.0; },
+           [](OperatingPoint* p) { p->slip_angle_rad = 0.5 * units::kPi; },
+           [](OperatingPoint* p) { p->path_curvature_per_m = std::numeric_limits<double>::infinity(); }}) {
+    OperatingPoint op = rigPoint(2.0);
+    mutate(&op);
+    EXPECT_EQ(model.evaluate(op, &r), EvalStatus::kInvalidInput);
+  }
+  OperatingPoint op = rigPoint(nan);
+  EXPECT_EQ(model.evaluate(op, &r), EvalStatus::kInvalidInput);
+  EXPECT_EQ(r.fy_n, 123.0);
+}
+
+TEST(WearModelInput, InvalidOptionsNameTheField) {
+  auto message = [](WearModelOptions o) {
+    std::string error;
+    EXPECT_FALSE(o.validate(&error));
+    return error;
+  };
+  WearModelOptions o;
+  o.min_speed_mps = 0.0;
+  EXPECT_NE(message(o).find("min_speed_mps"), std::string::npos);
+  o = WearModelOptions();
+  o.min_rolling_speed_mps = 1.0;  // above min_speed_mps
+  EXPECT_NE(message(o).find("min_rolling_speed_mps"), std::string::npos);
+  o = WearModelOptions();
+  o.time_budget_s = -1e-6;
+  EXPECT_NE(message(o).find("time_budget_s"), std::string::npos);
+  o = WearModelOptions();
+  o.budget_probe_interval = 0;
+  EXPECT_NE(message(o).find("budget_probe_interval"), std::string::npos);
+  o = WearModelOptions();
+  o.timing_smoothing = 0.0;
+  EXPECT_NE(message(o).find("timing_smoothing"), std::string::npos);
+  EXPECT_THROW(WearModel(TireParams(), o), std::invalid_argument);
+  WearModel model{TireParams(), WearModelOptions()};
+  EXPECT_THROW(model.setTimeBudget(-1.0), std::invalid_argument);
+  EXPECT_THROW(model.setTimeBudget(std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);
+}
+
+TEST(WearModelPresets, NamesRoundTripAndUnknownIsRejected) {
+  for (Preset p : {Preset::kFast, Preset::kStandard, Preset::kReference}) {
+    Preset parsed = Preset::kFast;
+    EXPECT_TRUE(parsePreset(presetName(p), &parsed));
+    EXPECT_EQ(parsed, p);
+  }
+  Preset untouched = Preset::kStandard;
+  EXPECT_FALSE(parsePreset("ultra", &untouched));
+  EXPECT_EQ(untouched, Preset::kStandard);
+}
+
+}  // namespace
+}  // namespace tread_wear
