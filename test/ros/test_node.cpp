@@ -1,0 +1,499 @@
+// tread_wear_node through ROS: inputs in -> outputs out, stale and invalid inputs, time jumps, the planner and
+// reset services, kill -9 + restart, and a bag regression. One binary; each .test file selects its cases with
+// --gtest_filter and configures the node (test/ros/*.test). Expected values come from the core library
+// evaluated directly (WearModel on the same tire file), never from the node's own output.
+#include <gtest/gtest.h>
+#include <ros/master.h>
+#include <ros/ros.h>
+#include <rosbag/bag.h>
+#include <rosgraph_msgs/Clock.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <diagnostic_msgs/DiagnosticArray.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <mutex>
+#include <string>
+
+#include "tread_wear/EvaluateWear.h"
+#include "tread_wear/ResetWheel.h"
+#include "tread_wear/VehicleWear.h"
+#include "tread_wear/WheelLoad.h"
+#include "tread_wear/WheelSlip.h"
+#include "tread_wear/WheelSpeed.h"
+#include "tread_wear/WheelWear.h"
+#include "tread_wear/core/params_io.h"
+#include "tread_wear/core/state_store.h"
+#include "tread_wear/core/units.h"
+#include "tread_wear/core/wear_model.h"
+
+namespace tread_wear {
+namespace {
+
+const std::string kTireFile = std::string(TREAD_WEAR_SOURCE_DIR) + "/config/tires/grosch_wheel.yaml";
+
+// The rig point of paper Table 3 (75 N, alpha = -2 deg, R_t = 60 mm) at 0.5 m/s.
+constexpr double kLoad = 75.0, kSpeed = 0.5, kCurvature = 1.0 / 0.060;
+const double kSlipAngle = -2.0 * units::kDegree;
+
+/// W_r [kg/m] etc. of the rig point from the core library directly, fast preset as configured in the tests.
+WearResult directResult(Preset preset = Preset::kFast) {
+  WearModelOptions o;
+  o.preset = preset;
+  WearModel model(loadTireParams(kTireFile), o);
+  OperatingPoint op;
+  op.load_n = kLoad;
+  op.speed_mps = kSpeed;
+  op.slip_angle_rad = kSlipAngle;
+  op.path_curvature_per_m = kCurvature;
+  WearResult r;
+  model.evaluate(op, &r);
+  return r;
+}
+
+/// Publishes a wheel's inputs and records its outputs and the diagnostics.
+class Harness {
+ public:
+  explicit Harness(const std::string& wheel) : wheel_(wheel) {
+    load_ = nh_.advertise<tread_wear::WheelLoad>("wheels/" + wheel + "/load", 10);
+    slip_ = nh_.advertise<tread_wear::WheelSlip>("wheels/" + wheel + "/slip", 10);
+    speed_ = nh_.advertise<tread_wear::WheelSpeed>("wheels/" + wheel + "/speed", 10);
+    wear_sub_ = nh_.subscribe("wheels/" + wheel + "/wear", 100, &Harness::onWear, this);
+    diag_sub_ = nh_.subscribe("/diagnostics", 100, &Harness::onDiag, this);
+  }
+  void publish(double load = kLoad, double speed = kSpeed) {
+    tread_wear::WheelLoad l;
+    l.load_n = load;
+    tread_wear::WheelSlip s;
+    s.slip_angle_rad = kSlipAngle;
+    s.path_curvature_per_m = kCurvature;
+    tread_wear::WheelSpeed v;
+    v.speed_mps = speed;
+    load_.publish(l);
+    slip_.publish(s);
+    speed_.publish(v);
+  }
+  /// Spins (publishing each 10 ms when asked) until pred holds or timeout [s, wall].
+  bool spinUntil(const std::function<bool()>& pred, double timeout_s, bool keep_publishing = true,
+                 double load = kLoad) {
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout_s);
+    while (ros::WallTime::now() < end) {
+      if (keep_publishing) publish(load);
+      ros::WallDuration(0.01).sleep();
+      ros::spinOnce();
+      if (pred()) return true;
+    }
+    return false;
+  }
+  tread_wear::WheelWear last() {
+    std::lock_guard<std::mutex> l(mutex_);
+    return last_;
+  }
+  int count() {
+    std::lock_guard<std::mutex> l(mutex_);
+    return count_;
+  }
+  /// Value of a key in the last diagnostic status named "...wheel <name>", or "".
+  std::string diag(const std::string& key, int* level = nullptr) {
+    std::lock_guard<std::mutex> l(mutex_);
+    if (level) *level = diag_level_;
+    auto it = diag_.find(key);
+    return it == diag_.end() ? "" : it->second;
+  }
+  bool waitForNode(double timeout_s) {
+    return spinUntil([this] { return load_.getNumSubscribers() > 0 && count() > 0; }, timeout_s, false);
+  }
+
+ private:
+  void onWear(const tread_wear::WheelWear::ConstPtr& m) {
+    std::lock_guard<std::mutex> l(mutex_);
+    last_ = *m;
+    ++count_;
+  }
+  void onDiag(const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
+    std::lock_guard<std::mutex> l(mutex_);
+    for (const auto& s : m->status) {
+      const std::string suffix = "wheel " + wheel_;
+      if (s.name.size() < suffix.size() || s.name.compare(s.name.size() - suffix.size(), suffix.size(), suffix))
+        continue;
+      diag_.clear();
+      for (const auto& kv : s.values) diag_[kv.key] = kv.value;
+      diag_level_ = s.level;
+    }
+  }
+
+  std::string wheel_;
+  ros::NodeHandle nh_;
+  ros::Publisher load_, slip_, speed_;
+  ros::Subscriber wear_sub_, diag_sub_;
+  std::mutex mutex_;
+  tread_wear::WheelWear last_;
+  int count_ = 0;
+  std::map<std::string, std::string> diag_;
+  int diag_level_ = -1;
+};
+
+// Relative tolerance for the node's wear rate against the direct evaluation: both run the same
+// deterministic code on the same doubles (messages carry float64), so only rounding could differ.
+constexpr double kSameModelRelTol = 1e-12;
+
+TEST(NodeIo, InputsInOutputsOut) {
+  Harness h("a");
+  ASSERT_TRUE(h.waitForNode(10.0));
+  ros::NodeHandle nh;
+  tread_wear::VehicleWear vehicle;
+  int vehicle_count = 0;
+  ros::Subscriber vs = nh.subscribe<tread_wear::VehicleWear>("wear", 10, [&](const tread_wear::VehicleWear::ConstPtr& m) {
+    vehicle = *m;
+    ++vehicle_count;
+  });
+  ASSERT_TRUE(h.spinUntil([&] { return h.last().status == tread_wear::WheelWear::STATUS_OK && h.last().accumulated_loss_kg > 0.0; }, 10.0));
+  const WearResult direct = directResult();
+  const tread_wear::WheelWear m = h.last();
+  EXPECT_EQ(m.wheel, "a");
+  EXPECT_EQ(m.header.frame_id, "wheel_a");
+  EXPECT_EQ(m.tire_id, "tire-a");
+  EXPECT_EQ(m.preset, "fast");
+  EXPECT_FALSE(m.degraded);
+  EXPECT_NEAR(m.wear_rate_kg_per_m, direct.wear_rate_kg_per_m, kSameModelRelTol * direct.wear_rate_kg_per_m);
+  EXPECT_NEAR(m.wear_rate_kg_per_s, direct.wear_rate_kg_per_s, kSameModelRelTol * direct.wear_rate_kg_per_s);
+  EXPECT_NEAR(m.fy_n, direct.fy_n, kSameModelRelTol * std::fabs(direct.fy_n));
+  EXPECT_NEAR(m.slide_fraction, direct.slide_fraction, 1e-12);
+  // Constant inputs: accumulated loss / distance is W_r (trapezoid of a constant is exact).
+  ASSERT_GT(m.distance_m, 0.0);
+  EXPECT_NEAR(m.accumulated_loss_kg / m.distance_m, direct.wear_rate_kg_per_m, 1e-9 * direct.wear_rate_kg_per_m);
+  EXPECT_GT(m.remaining_tread_depth_m, 0.0);
+  ASSERT_TRUE(h.spinUntil([&] { return vehicle_count > 0; }, 5.0));
+  ASSERT_EQ(vehicle.wheels.size(), 2u);
+  EXPECT_EQ(vehicle.wheels[0].wheel, "a");
+  EXPECT_EQ(vehicle.wheels[1].wheel, "b");
+  EXPECT_NEAR(vehicle.total_accumulated_loss_kg,
+              vehicle.wheels[0].accumulated_loss_kg + vehicle.wheels[1].accumulated_loss_kg, 1e-18);
+}
+
+TEST(NodeIo, InvalidInputIsCountedAndNeverUsed) {
+  Harness h("b");
+  ASSERT_TRUE(h.waitForNode(10.0));
+  ASSERT_TRUE(h.spinUntil([&] { return h.last().status == tread_wear::WheelWear::STATUS_OK; }, 10.0));
+  // NaN load: the wheel stops being evaluated, its loss freezes.
+  ASSERT_TRUE(h.spinUntil([&] { return h.last().status == tread_wear::WheelWear::STATUS_INVALID_INPUT; }, 5.0, true,
+                          std::numeric_limits<double>::quiet_NaN()));
+  const double frozen = h.last().accumulated_loss_kg;
+  h.spinUntil([] { return false; }, 0.3, true, std::numeric_limits<double>::quiet_NaN());
+  EXPECT_EQ(h.last().accumulated_loss_kg, frozen);
+  EXPECT_EQ(h.last().status, tread_wear::WheelWear::STATUS_INVALID_INPUT);
+  // Negative load: same, and classified separately.
+  h.spinUntil([] { return false; }, 0.3, true, -100.0);
+  EXPECT_EQ(h.last().accumulated_loss_kg, frozen);
+  int level = -1;
+  ASSERT_TRUE(h.spinUntil([&] { return !h.diag("invalid: negative_load").empty(); }, 5.0, true, -100.0));
+  EXPECT_GT(std::stoi(h.diag("invalid: not_finite", &level)), 0);
+  EXPECT_GT(std::stoi(h.diag("invalid: negative_load")), 0);
+  EXPECT_EQ(level, diagnostic_msgs::DiagnosticStatus::WARN);
+  // Valid again: estimation resumes.
+  ASSERT_TRUE(h.spinUntil([&] { return h.last().accumulated_loss_kg > frozen; }, 5.0));
+}
+
+TEST(NodeIo, StaleInputStopsIntegration) {
+  Harness h("b");
+  ASSERT_TRUE(h.waitForNode(10.0));
+  ASSERT_TRUE(h.spinUntil([&] { return h.last().status == tread_wear::WheelWear::STATUS_OK; }, 10.0));
+  // Stop publishing: after the 0.3 s timeout (node.test) the wheel is stale and its loss constant.
+  ASSERT_TRUE(h.spinUntil([&] { return h.last().status == tread_wear::WheelWear::STATUS_STALE_INPUT; }, 3.0, false));
+  const double frozen = h.last().accumulated_loss_kg;
+  h.spinUntil([] { return false; }, 0.5, false);
+  EXPECT_EQ(h.last().accumulated_loss_kg, frozen);
+  EXPECT_GT(h.last().unaccounted_time_s, 0.0);
+  ASSERT_TRUE(h.spinUntil([&] { return h.diag("status") == "stale_input" && !h.diag("stale steps").empty() &&
+                                       std::stoul(h.diag("stale steps")) > 0; }, 5.0, false));
+}
+
+TEST(NodeIo, PlannerServiceMatchesTheCore) {
+  ros::NodeHandle nh;
+  ASSERT_TRUE(ros::service::waitForService("evaluate_wear", ros::Duration(10.0)));
+  tread_wear::EvaluateWear srv;
+  srv.request.wheel = "a";
+  srv.request.preset = "standard";
+  tread_wear::WheelState s;
+  s.load_n = kLoad;
+  s.speed_mps = kSpeed;
+  s.slip_angle_rad = kSlipAngle;
+  s.path_curvature_per_m = kCurvature;
+  s.tread_temperature_c = std::numeric_limits<double>::quiet_NaN();
+  srv.request.states.push_back(s);
+  tread_wear::WheelState bad = s;
+  bad.speed_mps = -1.0;
+  srv.request.states.push_back(bad);
+  tread_wear::WheelState airborne = s;
+  airborne.load_n = 0.0;
+  srv.request.states.push_back(airborne);
+  ASSERT_TRUE(ros::service::call("evaluate_wear", srv));
+  ASSERT_TRUE(srv.response.success) << srv.response.message;
+  EXPECT_EQ(srv.response.preset, "standard");
+  ASSERT_EQ(srv.response.results.size(), 3u);
+  const WearResult direct = directResult(Preset::kStandard);
+  EXPECT_EQ(srv.response.results[0].status, tread_wear::WheelWearRate::STATUS_OK);
+  EXPECT_NEAR(srv.response.results[0].wear_rate_kg_per_m, direct.wear_rate_kg_per_m,
+              kSameModelRelTol * direct.wear_rate_kg_per_m);
+  EXPECT_NEAR(srv.response.results[0].fy_n, direct.fy_n, kSameModelRelTol * std::fabs(direct.fy_n));
+  EXPECT_EQ(srv.response.results[1].status, tread_wear::WheelWearRate::STATUS_INVALID_INPUT);
+  EXPECT_NE(srv.response.results[1].error.find("speed_mps"), std::string::npos);
+  EXPECT_EQ(srv.response.results[2].status, tread_wear::WheelWearRate::STATUS_OK);
+  EXPECT_EQ(srv.response.results[2].wear_rate_kg_per_m, 0.0);
+
+  srv.request.wheel = "nope";
+  ASSERT_TRUE(ros::service::call("evaluate_wear", srv));
+  EXPECT_FALSE(srv.response.success);
+  EXPECT_NE(srv.response.message.find("nope"), std::string::npos);
+}
+
+TEST(NodeIo, ResetServiceStartsANewTire) {
+  Harness h("a");
+  ASSERT_TRUE(h.waitForNode(10.0));
+  ASSERT_TRUE(h.spinUntil([&] { return h.last().accumulated_loss_kg > 0.0; }, 10.0));
+  tread_wear::ResetWheel srv;
+  srv.request.wheel = "a";
+  srv.request.tire_id = "tire-a2";
+  ASSERT_TRUE(ros::service::call("reset_wheel", srv));
+  ASSERT_TRUE(srv.response.success) << srv.response.message;
+  EXPECT_GT(srv.response.previous_loss_kg, 0.0);
+  ASSERT_TRUE(h.spinUntil([&] { return h.last().tire_id == "tire-a2"; }, 5.0));
+  EXPECT_LT(h.last().accumulated_loss_kg, srv.response.previous_loss_kg);
+  srv.request.tire_id = "";
+  ASSERT_TRUE(ros::service::call("reset_wheel", srv));
+  EXPECT_FALSE(srv.response.success);
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Time jump (time_jump.test: use_sim_time, this test drives /clock).
+TEST(TimeJump, BackwardJumpKeepsTheAccumulatedLoss) {
+  ros::NodeHandle nh;
+  ros::Publisher clock = nh.advertise<rosgraph_msgs::Clock>("/clock", 10);
+  Harness h("a");
+  double t = 100.0;
+  auto tick = [&](double dt) {
+    t += dt;
+    rosgraph_msgs::Clock c;
+    c.clock = ros::Time(t);
+    clock.publish(c);
+  };
+  // Sim time runs at about real time: 10 ms per 10 ms wall (spinUntil sleeps 10 ms per iteration).
+  auto run = [&](const std::function<bool()>& pred, double timeout_s) {
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout_s);
+    while (ros::WallTime::now() < end) {
+      tick(0.01);
+      h.publish();
+      ros::WallDuration(0.01).sleep();
+      ros::spinOnce();
+      if (pred()) return true;
+    }
+    return false;
+  };
+  ASSERT_TRUE(run([&] { return h.last().accumulated_loss_kg > 0.0 && h.count() > 50; }, 15.0));
+  const double before = h.last().accumulated_loss_kg;
+  const double distance_before = h.last().distance_m;
+  // A looping bag: the clock restarts at 10 s.
+  t = 10.0;
+  ASSERT_TRUE(run([&] { return h.last().status == tread_wear::WheelWear::STATUS_TIME_JUMP; }, 5.0));
+  EXPECT_GE(h.last().accumulated_loss_kg, before);
+  // Nothing absurd was integrated: the loss may only grow at the model's rate (W_r per metre at <= 0.5 m/s).
+  EXPECT_LT(h.last().distance_m - distance_before, 0.5 * 1.0);
+  ASSERT_TRUE(run([&] { return h.last().status == tread_wear::WheelWear::STATUS_OK &&
+                               h.last().accumulated_loss_kg > before; }, 5.0));
+  ASSERT_TRUE(run([&] { return !h.diag("time jumps backward").empty() && std::stoi(h.diag("time jumps backward")) >= 1; },
+                  5.0));
+  // Loss per distance is still W_r: the jump did not corrupt the integral.
+  const WearResult direct = directResult();
+  EXPECT_NEAR(h.last().accumulated_loss_kg / h.last().distance_m, direct.wear_rate_kg_per_m,
+              1e-9 * direct.wear_rate_kg_per_m);
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// kill -9 and restart (persistence.test): this test starts the node binary itself against the rostest master.
+class NodeProcess {
+ public:
+  explicit NodeProcess(const std::string& name) {
+    pid_ = fork();
+    if (pid_ == 0) {
+      const std::string name_arg = "__name:=" + name;
+      execl(TREAD_WEAR_NODE_BINARY, TREAD_WEAR_NODE_BINARY, name_arg.c_str(), static_cast<char*>(nullptr));
+      _exit(127);
+    }
+  }
+  ~NodeProcess() { kill(SIGKILL); }
+  void kill(int sig) {
+    if (pid_ <= 0) return;
+    ::kill(pid_, sig);
+    int status;
+    waitpid(pid_, &status, 0);
+    pid_ = -1;
+  }
+
+ private:
+  pid_t pid_ = -1;
+};
+
+TEST(Persistence, KillNineLosesAtMostOneSaveInterval) {
+  const std::string state_file = "/tmp/tread_wear_persist_" + std::to_string(getpid()) + ".json";
+  std::remove(state_file.c_str());
+  const double save_interval_s = 0.5;
+  ros::NodeHandle nh;
+  XmlRpc::XmlRpcValue wheels;
+  wheels[0]["name"] = "a";
+  wheels[0]["tire_params"] = kTireFile;
+  wheels[0]["tire_id"] = "tire-a";
+  ros::param::set("/persist_node/wheels", wheels);
+  ros::param::set("/persist_node/preset", "fast");
+  ros::param::set("/persist_node/update_rate_hz", 50.0);
+  ros::param::set("/persist_node/marker_rate_hz", 0.0);
+  ros::param::set("/persist_node/state_file", state_file);
+  ros::param::set("/persist_node/save_interval_s", save_interval_s);
+
+  Harness h("a");
+  double loss_at_kill = 0.0, rate_kg_per_s = 0.0;
+  {
+    NodeProcess node("persist_node");
+    ASSERT_TRUE(h.waitForNode(15.0));
+    ASSERT_TRUE(h.spinUntil([&] { return h.last().distance_m > 0.5; }, 10.0));
+    loss_at_kill = h.last().accumulated_loss_kg;
+    rate_kg_per_s = h.last().wear_rate_kg_per_s;
+    node.kill(SIGKILL);
+  }
+  const LoadResult saved = StateStore(state_file).load();
+  ASSERT_EQ(saved.status, LoadStatus::kLoaded) << saved.message;
+  const WheelRecord* rec = saved.state.find("a");
+  ASSERT_NE(rec, nullptr);
+  // Lost = accumulation since the last save: at most one save interval of wear, plus one update period
+  // and one message transit (0.1 s margin) because loss_at_kill was read a little before the kill.
+  const double max_lost = rate_kg_per_s * (save_interval_s + 0.1);
+  EXPECT_LE(loss_at_kill - rec->accumulated_loss_kg, max_lost);
+  EXPECT_GT(rec->accumulated_loss_kg, 0.0);
+  EXPECT_EQ(rec->tire_id, "tire-a");
+
+  // Restart: the first output continues from the saved value.
+  const int before = h.count();
+  NodeProcess node("persist_node");
+  ASSERT_TRUE(h.spinUntil([&] { return h.count() > before; }, 15.0, false));
+  EXPECT_EQ(h.last().accumulated_loss_kg, rec->accumulated_loss_kg);
+  ASSERT_TRUE(h.spinUntil([&] { return h.last().accumulated_loss_kg > rec->accumulated_loss_kg; }, 10.0));
+  node.kill(SIGINT);  // clean shutdown saves
+  const LoadResult final_state = StateStore(state_file).load();
+  ASSERT_EQ(final_state.status, LoadStatus::kLoaded);
+  EXPECT_GT(final_state.state.find("a")->accumulated_loss_kg, rec->accumulated_loss_kg);
+  std::remove(state_file.c_str());
+}
+
+TEST(Persistence, CorruptStateFileIsMovedAsideAndReported) {
+  const std::string state_file = "/tmp/tread_wear_corrupt_" + std::to_string(getpid()) + ".json";
+  std::ofstream(state_file) << "{\"format\": \"tread_wear_state\", \"version\": 1, \"wheels\": [";
+  ros::param::set("/corrupt_node/state_file", state_file);
+  XmlRpc::XmlRpcValue wheels;
+  wheels[0]["name"] = "c";
+  wheels[0]["tire_params"] = kTireFile;
+  ros::param::set("/corrupt_node/wheels", wheels);
+  ros::param::set("/corrupt_node/preset", "fast");
+  ros::NodeHandle nh;
+  std::string persistence_level_message;
+  int persistence_level = -1;
+  ros::Subscriber ds = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
+      "/diagnostics", 10, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
+        for (const auto& s : m->status)
+          if (s.name.find("persistence") != std::string::npos) {
+            persistence_level = s.level;
+            persistence_level_message = s.message;
+          }
+      });
+  NodeProcess node("corrupt_node");
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(15.0);
+  while (persistence_level < 0 && ros::WallTime::now() < end) {
+    ros::WallDuration(0.05).sleep();
+    ros::spinOnce();
+  }
+  EXPECT_EQ(persistence_level, diagnostic_msgs::DiagnosticStatus::ERROR);
+  EXPECT_NE(persistence_level_message.find("corrupt"), std::string::npos) << persistence_level_message;
+  EXPECT_NE(persistence_level_message.find(".corrupt-"), std::string::npos) << persistence_level_message;
+  node.kill(SIGINT);
+  std::remove(state_file.c_str());
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Bag regression (bag.test): the test writes a bag of constant inputs, plays it with --clock through the node
+// (use_sim_time) and compares the final accumulated loss with W_r (core, direct) x V x duration.
+TEST(BagRegression, ConstantDriveMatchesWrTimesDistance) {
+  const double duration_s = 6.0, input_rate_hz = 50.0, t0 = 1000.0;
+  const std::string bag_path = "/tmp/tread_wear_regression_" + std::to_string(getpid()) + ".bag";
+  {
+    rosbag::Bag bag(bag_path, rosbag::bagmode::Write);
+    const int n = static_cast<int>(duration_s * input_rate_hz);
+    for (int k = 0; k <= n; ++k) {
+      const ros::Time t(t0 + k / input_rate_hz);
+      tread_wear::WheelLoad l;
+      l.header.stamp = t;
+      l.load_n = kLoad;
+      tread_wear::WheelSlip s;
+      s.header.stamp = t;
+      s.slip_angle_rad = kSlipAngle;
+      s.path_curvature_per_m = kCurvature;
+      tread_wear::WheelSpeed v;
+      v.header.stamp = t;
+      v.speed_mps = kSpeed;
+      bag.write("/wheels/a/load", t, l);
+      bag.write("/wheels/a/slip", t, s);
+      bag.write("/wheels/a/speed", t, v);
+    }
+  }
+  Harness h("a");
+  // The node has no time yet (sim time 0): wait until it subscribed, then play.
+  ros::NodeHandle nh;
+  ros::WallTime end = ros::WallTime::now() + ros::WallDuration(10.0);
+  while (ros::WallTime::now() < end) {
+    ros::WallDuration(0.1).sleep();
+    ros::spinOnce();
+    std::vector<std::string> nodes;
+    if (ros::master::getNodes(nodes) &&
+        std::find(nodes.begin(), nodes.end(), "/tread_wear_node") != nodes.end())
+      break;
+  }
+  const pid_t player = fork();
+  if (player == 0) {
+    execl("/usr/lib/rosbag/play", "play", "--clock", "-q", "-d", "1", bag_path.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  int status = 0;
+  waitpid(player, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  ros::WallDuration(0.3).sleep();
+  ros::spinOnce();
+  std::remove(bag_path.c_str());
+
+  const WearResult direct = directResult();
+  const tread_wear::WheelWear m = h.last();
+  ASSERT_GT(h.count(), 0);
+  // Integrated time: from the first update step with all three inputs to the last step before the clock stops.
+  // Each end can lose at most one update period (50 Hz -> 0.02 s) plus one clock tick of rosbag play
+  // (100 Hz -> 0.01 s): |error| <= 2 x 0.03 s = 0.06 s of the 6 s drive = 1%.
+  const double expected = direct.wear_rate_kg_per_m * kSpeed * duration_s;
+  const double tolerance = direct.wear_rate_kg_per_m * kSpeed * 2.0 * (1.0 / 50.0 + 1.0 / 100.0);
+  EXPECT_NEAR(m.accumulated_loss_kg, expected, tolerance) << "relative error "
+                                                          << (m.accumulated_loss_kg - expected) / expected;
+  EXPECT_NEAR(m.distance_m, kSpeed * duration_s, kSpeed * 2.0 * (1.0 / 50.0 + 1.0 / 100.0));
+  EXPECT_NEAR(m.accumulated_loss_kg / m.distance_m, direct.wear_rate_kg_per_m, 1e-9 * direct.wear_rate_kg_per_m);
+  EXPECT_EQ(m.header.stamp.toSec() > t0, true);  // outputs are stamped with the bag's (simulated) time
+}
+
+}  // namespace
+}  // namespace tread_wear
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_tread_wear_node");
+  ros::NodeHandle nh;  // keeps the node alive for the whole run
+  return RUN_ALL_TESTS();
+}
