@@ -341,15 +341,18 @@ void ReferenceBrushSolver::evaluate(const OperatingPoint& op, WearResult* result
   if (!(w.Vr > 0.0)) throw std::invalid_argument("invalid operating point: rolling speed must be > 0");
   const double T = 2.0 * a / w.Vr;
 
-  // Natural scales: shear stress, deflection, path integrals; absolute tolerances follow from them.
+  // Natural scales: slip speed, deflection (limited by friction or by the kinematics of stick over
+  // the contact time), shear stress and path integrals; absolute tolerances follow from them.
   const double p_mean = Fz / (4.0 * a * b);
-  const double tau_scale = w.friction.saturation(p_mean) * fr.mu_m * p_mean;
   const double slip_scale = std::max({std::fabs(w.vrx0), std::fabs(w.vry0), std::fabs(w.Omega) * (a + b), 1e-3});
-  w.scale = {tau_scale / w.kx, tau_scale / w.kx, slip_scale, slip_scale};
+  const double deflection_scale =
+      std::min(w.friction.saturation(p_mean) * fr.mu_m * p_mean / w.kx, slip_scale * T);
+  const double tau_scale = w.ky * deflection_scale;
+  w.scale = {deflection_scale, deflection_scale, slip_scale, slip_scale};
   const double wear_scale = w.w4 + w.w3 * std::pow(tau_scale / units::kMegapascal, w.w1) * std::pow(slip_scale, w.w2);
   const double atol_f = options_.rel_tol * options_.abs_tol_factor;
   double* atol = N_VGetArrayPointer(w.abstol);
-  atol[kDx] = atol[kDy] = atol_f * tau_scale / w.kx;
+  atol[kDx] = atol[kDy] = atol_f * deflection_scale;
   atol[kVsx] = atol[kVsy] = atol_f * slip_scale;
   atol[kQx] = atol[kQy] = atol_f * tau_scale * 2.0 * a;
   atol[kQxTauY] = atol_f * tau_scale * 2.0 * a * a;
