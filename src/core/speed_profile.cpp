@@ -200,13 +200,15 @@ double SpeedProfile::maxSpeed(double t0_s, double t1_s) const {
   return vmax;
 }
 
-int SpeedProfile::phaseAt(double t_s) const {
-  for (std::size_t i = 0; i < phases_.size(); ++i) {
-    const bool last = i + 1 == phases_.size();
-    const double end = last ? phases_[i].end_s : phases_[i + 1].start_s;
-    if (t_s >= phases_[i].start_s && (t_s < end || (last && t_s <= end))) return static_cast<int>(i);
+int phaseIndexAt(const std::vector<ProfilePhase>& phases, double t_s) {
+  for (std::size_t i = 0; i < phases.size(); ++i) {
+    const bool last = i + 1 == phases.size();
+    const double end = last ? phases[i].end_s : phases[i + 1].start_s;
+    if (t_s >= phases[i].start_s && (t_s < end || (last && t_s <= end))) return static_cast<int>(i);
   }
   return -1;
 }
+
+int SpeedProfile::phaseAt(double t_s) const { return phaseIndexAt(phases_, t_s); }
 
 }  // namespace tread_wear

@@ -53,7 +53,7 @@ bool parseDriveLayout(const std::string& name, DriveLayout* layout) {
 }
 
 const char* wheelName(int wheel) {
-  static const char* const kNames[kWheelCount] = {"fl", "fr", "rl", "rr"};
+  static const char* const kNames[kWheelCount] = {"front_left", "front_right", "rear_left", "rear_right"};
   return wheel >= 0 && wheel < kWheelCount ? kNames[wheel] : "unknown";
 }
 

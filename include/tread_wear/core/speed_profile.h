@@ -66,6 +66,9 @@ class SpeedProfile {
   std::string name_;
 };
 
+/// Index of the phase containing t (phase i covers [start_i, start_{i+1}), the last [start, end]), or -1.
+int phaseIndexAt(const std::vector<ProfilePhase>& phases, double t_s);
+
 /// Parses "Low 0-589, Medium 590-1022, ..." (the text after "Phases:"). False with *error on bad syntax.
 bool parsePhaseList(const std::string& text, std::vector<ProfilePhase>* phases, std::string* error);
 

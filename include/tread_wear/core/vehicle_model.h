@@ -69,7 +69,7 @@ VehicleParams loadVehicleParams(const std::string& path);
 /// Wheel order everywhere: front left, front right, rear left, rear right.
 constexpr int kWheelCount = 4;
 enum WheelIndex { kFrontLeft = 0, kFrontRight = 1, kRearLeft = 2, kRearRight = 3 };
-/// "fl", "fr", "rl", "rr".
+/// "front_left", "front_right", "rear_left", "rear_right" (the wheel names of config/vehicle_wheels.yaml).
 const char* wheelName(int wheel);
 
 /// Motion of the vehicle at one instant.

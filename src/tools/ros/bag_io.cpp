@@ -1,0 +1,353 @@
+#include "bag_io.h"
+
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <std_msgs/String.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <fstream>
+#include <map>
+
+#include "tread_wear/TreadTemperature.h"
+#include "tread_wear/VehicleWear.h"
+#include "tread_wear/WheelLoad.h"
+#include "tread_wear/WheelSlip.h"
+#include "tread_wear/WheelSpeed.h"
+#include "tread_wear/WheelWear.h"
+#include "tread_wear/core/params_io.h"
+
+namespace tread_wear {
+
+namespace {
+
+std::string absoluteTopic(const std::string& topic) { return topic.empty() || topic[0] == '/' ? topic : "/" + topic; }
+
+std::string directoryOf(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  return slash == std::string::npos ? "." : path.substr(0, slash);
+}
+
+template <typename T>
+double number(const YAML::Node& node, const char* key, double fallback) {
+  return node[key] ? node[key].as<T>() : fallback;
+}
+
+nlohmann::json vehicleJson(const VehicleParams& p) {
+  return {{"name", p.name},
+          {"mass_kg", p.mass_kg},
+          {"wheelbase_m", p.wheelbase_m},
+          {"cog_to_front_axle_m", p.cog_to_front_axle_m},
+          {"cog_height_m", p.cog_height_m},
+          {"track_front_m", p.track_front_m},
+          {"track_rear_m", p.track_rear_m},
+          {"front_roll_stiffness_share", p.front_roll_stiffness_share},
+          {"drive_layout", driveLayoutName(p.drive_layout)},
+          {"all_wheel_front_drive_share", p.all_wheel_front_drive_share},
+          {"brake_balance_front", p.brake_balance_front},
+          {"drag_coefficient", p.drag_coefficient},
+          {"frontal_area_m2", p.frontal_area_m2},
+          {"air_density_kg_per_m3", p.air_density_kg_per_m3},
+          {"rolling_resistance_coefficient", p.rolling_resistance_coefficient},
+          {"cornering_stiffness_front_per_rad", p.cornering_stiffness_front_per_rad},
+          {"cornering_stiffness_rear_per_rad", p.cornering_stiffness_rear_per_rad},
+          {"longitudinal_slip_stiffness", p.longitudinal_slip_stiffness},
+          {"gravity_mps2", p.gravity_mps2}};
+}
+
+/// Checks that a topic exists in the bag with the expected type; returns false if absent.
+template <typename M>
+bool checkTopic(const std::string& path, const std::map<std::string, const rosbag::ConnectionInfo*>& connections,
+                const std::string& topic, bool required) {
+  const auto it = connections.find(topic);
+  if (it == connections.end()) {
+    if (required) throw BagError(path + ": missing topic " + topic + " (" + ros::message_traits::datatype<M>() + ")");
+    return false;
+  }
+  const std::string expected = ros::message_traits::datatype<M>();
+  if (it->second->datatype != expected)
+    throw BagError(path + ": topic " + topic + " has type " + it->second->datatype + ", expected " + expected);
+  if (it->second->md5sum != ros::message_traits::md5sum<M>())
+    throw BagError(path + ": topic " + topic + " has a different definition of " + expected + " (md5 " +
+                   it->second->md5sum + ", expected " + ros::message_traits::md5sum<M>() + ")");
+  return true;
+}
+
+}  // namespace
+
+ReplayConfig loadReplayConfig(const std::string& path) {
+  auto fail = [&](const std::string& what) { return std::runtime_error(path + ": " + what); };
+  YAML::Node root;
+  try {
+    std::ifstream probe(path);
+    if (!probe) throw fail("cannot open the file for reading");
+    root = YAML::LoadFile(path);
+  } catch (const YAML::Exception& e) {
+    throw fail(std::string("not a readable YAML document: ") + e.what());
+  }
+  ReplayConfig c;
+  try {
+    ReplaySettings& s = c.settings;
+    s.update_rate_hz = number<double>(root, "update_rate_hz", s.update_rate_hz);
+    if (root["preset"] && !parsePreset(root["preset"].as<std::string>(), &s.model.preset))
+      throw fail("preset '" + root["preset"].as<std::string>() + "' is not fast, standard or reference");
+    if (root["turn_slip_orientation"]) {
+      const std::string o = root["turn_slip_orientation"].as<std::string>();
+      if (o == "literal") s.model.orientation = TurnSlipOrientation::kLiteral;
+      else if (o == "flipped") s.model.orientation = TurnSlipOrientation::kFlipped;
+      else throw fail("turn_slip_orientation '" + o + "' is not literal or flipped");
+    }
+    s.model.min_speed_mps = number<double>(root, "min_speed_mps", s.model.min_speed_mps);
+    s.estimator.stale_timeout_s = number<double>(root, "stale_timeout_s", s.estimator.stale_timeout_s);
+    s.estimator.max_step_s = number<double>(root, "max_step_s", s.estimator.max_step_s);
+    if (const YAML::Node l = root["limits"]) {
+      InputLimits& lim = s.estimator.limits;
+      lim.max_load_n = number<double>(l, "max_load_n", lim.max_load_n);
+      lim.max_abs_slip_angle_rad = number<double>(l, "max_abs_slip_angle_rad", lim.max_abs_slip_angle_rad);
+      lim.max_abs_slip_ratio = number<double>(l, "max_abs_slip_ratio", lim.max_abs_slip_ratio);
+      lim.max_abs_path_curvature_per_m =
+          number<double>(l, "max_abs_path_curvature_per_m", lim.max_abs_path_curvature_per_m);
+      lim.max_speed_mps = number<double>(l, "max_speed_mps", lim.max_speed_mps);
+      lim.min_temperature_c = number<double>(l, "min_temperature_c", lim.min_temperature_c);
+      lim.max_temperature_c = number<double>(l, "max_temperature_c", lim.max_temperature_c);
+    }
+    const YAML::Node wheels = root["wheels"];
+    if (!wheels || !wheels.IsSequence() || wheels.size() == 0) throw fail("key 'wheels' must be a non-empty list");
+    for (const YAML::Node& w : wheels) {
+      ReplayWheel wheel;
+      if (!w["name"] || !w["tire_params"]) throw fail("every entry of 'wheels' needs name and tire_params");
+      wheel.name = w["name"].as<std::string>();
+      wheel.frame_id = w["frame_id"] ? w["frame_id"].as<std::string>() : wheel.name;
+      wheel.tire_id = w["tire_id"] ? w["tire_id"].as<std::string>() : "unknown";
+      std::string tire = w["tire_params"].as<std::string>();
+      if (tire.empty() || tire[0] != '/') tire = directoryOf(path) + "/" + tire;
+      wheel.tire = loadTireParams(tire);
+      auto topic = [&](const char* key, const char* leaf) {
+        return absoluteTopic(w[key] ? w[key].as<std::string>() : "wheels/" + wheel.name + "/" + leaf);
+      };
+      c.load_topics.push_back(topic("load_topic", "load"));
+      c.slip_topics.push_back(topic("slip_topic", "slip"));
+      c.speed_topics.push_back(topic("speed_topic", "speed"));
+      c.temperature_topics.push_back(topic("temperature_topic", "tread_temperature"));
+      c.wear_topics.push_back(topic("wear_topic", "wear"));
+      c.wheels.push_back(std::move(wheel));
+    }
+  } catch (const YAML::Exception& e) {
+    throw fail(std::string("bad value: ") + e.what());
+  } catch (const ParamsError& e) {
+    throw fail(std::string("tire parameters: ") + e.what());
+  }
+  std::string error;
+  if (!c.settings.validate(&error)) throw fail(error);
+  return c;
+}
+
+DriveStats writeDriveBag(const std::string& path, const SpeedProfile& profile, const Route& route,
+                         const VehicleModel& vehicle, const RouteParams& route_params, const DriveOptions& options) {
+  if (!(options.rate_hz > 0.0) || options.wheel_names.size() != static_cast<std::size_t>(kWheelCount))
+    throw BagError(path + ": drive needs rate_hz > 0 and 4 wheel names");
+  rosbag::Bag bag;
+  try {
+    bag.open(path, rosbag::bagmode::Write);
+  } catch (const rosbag::BagException& e) {
+    throw BagError(path + ": cannot write the bag: " + e.what());
+  }
+  std::vector<std::string> load_topics, slip_topics, speed_topics, frames;
+  for (const std::string& name : options.wheel_names) {
+    load_topics.push_back("/wheels/" + name + "/load");
+    slip_topics.push_back("/wheels/" + name + "/slip");
+    speed_topics.push_back("/wheels/" + name + "/speed");
+    frames.push_back("wheel_" + name);
+  }
+  DriveStats stats;
+  const std::size_t n = static_cast<std::size_t>(std::floor(profile.duration_s() * options.rate_hz + 1e-9)) + 1;
+  WheelLoad load;
+  WheelSlip slip;
+  WheelSpeed speed;
+  VehicleState state;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double t = profile.startTime_s() + static_cast<double>(k) / options.rate_hz;
+    const VehicleMotion motion{profile.speed(t), profile.acceleration(t), route.curvature(profile.distance(t))};
+    vehicle.evaluate(motion, &state);
+    stats.max_abs_lateral_accel_mps2 = std::max(stats.max_abs_lateral_accel_mps2, std::fabs(state.lateral_accel_mps2));
+    const ros::Time stamp(t - profile.startTime_s() + kDriveTimeOffset_s);
+    for (int i = 0; i < kWheelCount; ++i) {
+      const WheelState& w = state.wheels[static_cast<std::size_t>(i)];
+      load.header.stamp = slip.header.stamp = speed.header.stamp = stamp;
+      load.header.frame_id = slip.header.frame_id = speed.header.frame_id = frames[i];
+      load.load_n = w.load_n;
+      slip.slip_angle_rad = w.slip_angle_rad;
+      slip.slip_ratio = w.slip_ratio;
+      slip.path_curvature_per_m = w.path_curvature_per_m;
+      speed.speed_mps = w.speed_mps;
+      bag.write(load_topics[i], stamp, load);
+      bag.write(slip_topics[i], stamp, slip);
+      bag.write(speed_topics[i], stamp, speed);
+    }
+  }
+  stats.samples = n;
+  stats.duration_s = profile.duration_s();
+  stats.distance_m = profile.totalDistance_m();
+
+  nlohmann::json info;
+  info["format"] = "tread_wear_drive";
+  info["version"] = 1;
+  info["profile"] = profile.name();
+  info["rate_hz"] = options.rate_hz;
+  info["time_offset_s"] = kDriveTimeOffset_s - profile.startTime_s();
+  info["duration_s"] = stats.duration_s;
+  info["distance_m"] = stats.distance_m;
+  info["wheels"] = options.wheel_names;
+  nlohmann::json phases = nlohmann::json::array();
+  for (const ProfilePhase& p : profile.phases()) phases.push_back({{"name", p.name}, {"start_s", p.start_s}, {"end_s", p.end_s}});
+  info["phases"] = phases;
+  info["vehicle"] = vehicleJson(vehicle.params());
+  std::map<std::string, int> event_counts;
+  for (const RouteEvent& e : route.events()) ++event_counts[routeEventKindName(e.kind)];
+  info["route"] = {{"lateral_accel_limit_mps2", route_params.lateral_accel_limit_mps2},
+                   {"seed", route_params.seed},
+                   {"events", event_counts},
+                   {"max_abs_lateral_accel_mps2", stats.max_abs_lateral_accel_mps2}};
+  std_msgs::String text;
+  text.data = info.dump(2);
+  bag.write(kDriveInfoTopic, ros::Time(kDriveTimeOffset_s), text);
+  bag.close();
+  return stats;
+}
+
+DriveInfo readDriveBag(const std::string& path, const ReplayConfig& config, DriveReplay* replay) {
+  {
+    std::ifstream probe(path);
+    if (!probe) throw BagError(path + ": cannot open the bag (missing or unreadable file)");
+  }
+  DriveInfo info;
+  rosbag::Bag bag;
+  try {
+    bag.open(path, rosbag::bagmode::Read);
+  } catch (const rosbag::BagException& e) {
+    throw BagError(path + ": not a readable bag (corrupt, truncated or unindexed: try `rosbag reindex`): " + e.what());
+  }
+  try {
+    std::map<std::string, const rosbag::ConnectionInfo*> connections;
+    rosbag::View all(bag);
+    for (const rosbag::ConnectionInfo* c : all.getConnections()) connections[c->topic] = c;
+
+    // Which topic feeds which wheel and input.
+    struct Route {
+      int wheel;
+      InputKind kind;
+    };
+    std::map<std::string, Route> routes;
+    for (int w = 0; w < static_cast<int>(config.wheels.size()); ++w) {
+      const std::size_t i = static_cast<std::size_t>(w);
+      checkTopic<WheelLoad>(path, connections, config.load_topics[i], true);
+      checkTopic<WheelSlip>(path, connections, config.slip_topics[i], true);
+      checkTopic<WheelSpeed>(path, connections, config.speed_topics[i], true);
+      routes[config.load_topics[i]] = {w, InputKind::kLoad};
+      routes[config.slip_topics[i]] = {w, InputKind::kSlip};
+      routes[config.speed_topics[i]] = {w, InputKind::kSpeed};
+      if (checkTopic<TreadTemperature>(path, connections, config.temperature_topics[i], false))
+        routes[config.temperature_topics[i]] = {w, InputKind::kTemperature};
+    }
+    if (connections.count(kDriveInfoTopic) != 0) {
+      checkTopic<std_msgs::String>(path, connections, kDriveInfoTopic, false);
+      rosbag::View view(bag, rosbag::TopicQuery(std::string(kDriveInfoTopic)));
+      for (const rosbag::MessageInstance& m : view) {
+        const auto text = m.instantiate<std_msgs::String>();
+        if (!text) continue;
+        try {
+          info.json = nlohmann::json::parse(text->data);
+          info.time_offset_s = info.json.value("time_offset_s", 0.0);
+          for (const auto& p : info.json.value("phases", nlohmann::json::array()))
+            info.phases.push_back({p.at("name").get<std::string>(), p.at("start_s").get<double>(), p.at("end_s").get<double>()});
+          info.present = true;
+        } catch (const nlohmann::json::exception& e) {
+          throw BagError(path + ": " + kDriveInfoTopic + " is not valid drive metadata: " + e.what());
+        }
+      }
+    }
+
+    std::vector<std::string> topics;
+    for (const auto& r : routes) topics.push_back(r.first);
+    rosbag::View view(bag, rosbag::TopicQuery(topics));
+    InputSample sample;
+    for (const rosbag::MessageInstance& m : view) {
+      const Route& r = routes.at(m.getTopic());
+      sample.t_s = m.getTime().toSec();
+      sample.kind = r.kind;
+      switch (r.kind) {
+        case InputKind::kLoad: sample.value[0] = m.instantiate<WheelLoad>()->load_n; break;
+        case InputKind::kSlip: {
+          const auto s = m.instantiate<WheelSlip>();
+          sample.value[0] = s->slip_angle_rad;
+          sample.value[1] = s->slip_ratio;
+          sample.value[2] = s->path_curvature_per_m;
+          break;
+        }
+        case InputKind::kSpeed: sample.value[0] = m.instantiate<WheelSpeed>()->speed_mps; break;
+        case InputKind::kTemperature: sample.value[0] = m.instantiate<TreadTemperature>()->temperature_c; break;
+      }
+      replay->addSample(r.wheel, sample);
+    }
+  } catch (const rosbag::BagException& e) {
+    throw BagError(path + ": bag data unreadable (corrupt or truncated): " + e.what());
+  } catch (const ros::Exception& e) {
+    throw BagError(path + ": a message could not be decoded: " + e.what());
+  }
+  return info;
+}
+
+void writeWearBag(const std::string& path, const DriveReplay& replay, const ReplayConfig& config,
+                  std::uint64_t decimation) {
+  rosbag::Bag bag;
+  try {
+    bag.open(path, rosbag::bagmode::Write);
+  } catch (const rosbag::BagException& e) {
+    throw BagError(path + ": cannot write the bag: " + e.what());
+  }
+  const int n_wheels = replay.wheelCount();
+  VehicleWear vehicle;
+  vehicle.header.frame_id = "base_link";
+  vehicle.wheels.resize(static_cast<std::size_t>(n_wheels));
+  for (int w = 0; w < n_wheels; ++w) {
+    WheelWear& m = vehicle.wheels[static_cast<std::size_t>(w)];
+    m.header.frame_id = replay.wheel(w).frame_id;
+    m.wheel = replay.wheel(w).name;
+    m.tire_id = replay.wheel(w).tire_id;
+  }
+  const std::uint64_t step = std::max<std::uint64_t>(decimation, 1);
+  for (std::uint64_t k = 0; k < replay.steps(); k += step) {
+    const ros::Time stamp(replay.stepTime(k));
+    vehicle.header.stamp = stamp;
+    vehicle.total_wear_rate_kg_per_s = vehicle.total_wear_rate_kg_per_m = vehicle.total_accumulated_loss_kg = 0.0;
+    for (int w = 0; w < n_wheels; ++w) {
+      const StepRecord& r = replay.records(w)[k];
+      WheelWear& m = vehicle.wheels[static_cast<std::size_t>(w)];
+      m.header.stamp = stamp;
+      m.wear_rate_kg_per_m = r.wear_rate_kg_per_m;
+      m.wear_rate_kg_per_s = r.wear_rate_kg_per_s;
+      m.accumulated_loss_kg = r.accumulated_loss_kg;
+      m.tread_depth_loss_m = r.tread_depth_loss_m;
+      m.remaining_tread_depth_m = r.remaining_tread_depth_m;
+      m.distance_m = r.distance_m;
+      m.stick_fraction = r.stick_fraction;
+      m.slide_fraction = r.slide_fraction;
+      m.exact_stick_fraction = r.exact_stick_fraction;
+      m.fx_n = r.fx_n;
+      m.fy_n = r.fy_n;
+      m.mz_nm = r.mz_nm;
+      m.preset = presetName(r.preset);
+      m.degraded = r.preset != replay.settings().model.preset;
+      m.status = static_cast<std::uint8_t>(r.status);
+      m.unaccounted_time_s = r.unaccounted_time_s;
+      vehicle.total_wear_rate_kg_per_s += m.wear_rate_kg_per_s;
+      vehicle.total_wear_rate_kg_per_m += m.wear_rate_kg_per_m;
+      vehicle.total_accumulated_loss_kg += m.accumulated_loss_kg;
+      bag.write(config.wear_topics[static_cast<std::size_t>(w)], stamp, m);
+    }
+    bag.write("/wear", stamp, vehicle);
+  }
+  bag.close();
+}
+
+}  // namespace tread_wear

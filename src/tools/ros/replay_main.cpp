@@ -1,0 +1,193 @@
+// tread_wear_replay: runs a recorded drive through the node's estimator offline (no ROS master), writes the wear
+// topics to a bag, a per-wheel summary JSON and a time series for plots. Usage and formats: docs/drive.md.
+#include <ros/time.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <fstream>
+#include <string>
+#include <thread>
+
+#include "bag_io.h"
+
+namespace {
+
+const char* const kUsage =
+    "usage: tread_wear_replay IN.bag [--out OUT.bag] [--summary FILE.json] [--timeseries FILE.csv]\n"
+    "                         [--preset fast|standard|reference] [--wheels CONFIG.yaml] [--rate-hz HZ]\n"
+    "                         [--out-rate-hz HZ] [--timeseries-rate-hz 1] [--threads N] [--quiet]\n"
+    "  --wheels   node configuration (wheels, tires, topics, update rate, preset) [default: config/vehicle_wheels.yaml]\n"
+    "  --rate-hz  update rate, overrides the configuration's update_rate_hz [Hz]\n"
+    "  --out-rate-hz  rate of the written wear messages [Hz] [default: every update]\n";
+
+void writeSummary(const std::string& path, const nlohmann::json& summary) {
+  if (path.empty()) return;
+  std::ofstream out(path + ".tmp");
+  out << summary.dump(2) << "\n";
+  out.close();
+  if (!out || std::rename((path + ".tmp").c_str(), path.c_str()) != 0)
+    throw std::runtime_error(path + ": cannot write the summary");
+}
+
+/// Per-window means for plots: speed, wear rate (loss difference over the window), loss, slide fraction.
+void writeTimeseries(const std::string& path, const tread_wear::DriveReplay& replay, std::uint64_t window,
+                     double time_offset_s) {
+  std::ofstream out(path);
+  out << "time_s,speed_kmh";
+  for (int w = 0; w < replay.wheelCount(); ++w) {
+    const std::string& n = replay.wheel(w).name;
+    out << "," << n << "_wear_rate_mg_per_s," << n << "_loss_mg," << n << "_slide_fraction";
+  }
+  out << "\n";
+  const std::uint64_t steps = replay.steps();
+  for (std::uint64_t k0 = 0; k0 + window <= steps; k0 += window) {
+    const std::uint64_t k1 = k0 + window - 1;
+    double speed = 0.0;
+    for (int w = 0; w < replay.wheelCount(); ++w)
+      for (std::uint64_t k = k0; k <= k1; ++k) speed += replay.records(w)[k].speed_mps;
+    speed /= static_cast<double>(window * replay.wheelCount());
+    out << replay.stepTime(k1) - time_offset_s << "," << speed * 3.6;
+    for (int w = 0; w < replay.wheelCount(); ++w) {
+      const auto& rec = replay.records(w);
+      const double before = k0 > 0 ? rec[k0 - 1].accumulated_loss_kg : 0.0;
+      const double dt = static_cast<double>(window) / replay.settings().update_rate_hz;
+      double slide = 0.0;
+      for (std::uint64_t k = k0; k <= k1; ++k) slide += rec[k].slide_fraction;
+      out << "," << (rec[k1].accumulated_loss_kg - before) * 1e6 / dt << "," << rec[k1].accumulated_loss_kg * 1e6 << ","
+          << slide / static_cast<double>(window);
+    }
+    out << "\n";
+  }
+  if (!out) throw std::runtime_error(path + ": cannot write the time series");
+}
+
+/// Progress bar on stderr while the replay runs (a line per quarter when stderr is not a terminal).
+void showProgress(const std::atomic<std::uint64_t>& done, std::uint64_t total, const std::atomic<bool>& finished) {
+  const bool tty = isatty(STDERR_FILENO) != 0;
+  int last_quarter = 0;
+  const auto start = std::chrono::steady_clock::now();
+  while (!finished.load()) {
+    const double f = total > 0 ? static_cast<double>(done.load()) / static_cast<double>(total) : 1.0;
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (tty) {
+      const int width = 40, filled = static_cast<int>(f * width);
+      std::fprintf(stderr, "\rreplay [%s%s] %5.1f%% %6.1f s", std::string(static_cast<std::size_t>(filled), '#').c_str(),
+                   std::string(static_cast<std::size_t>(width - filled), ' ').c_str(), 100.0 * f, elapsed);
+    } else if (static_cast<int>(f * 4) > last_quarter) {
+      last_quarter = static_cast<int>(f * 4);
+      std::fprintf(stderr, "replay %3d%% %6.1f s\n", 25 * last_quarter, elapsed);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  if (tty) std::fprintf(stderr, "\rreplay [%s] 100.0%%\n", std::string(40, '#').c_str());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string in, out, summary_path, timeseries_path, preset_name;
+  std::string wheels_path = std::string(TREAD_WEAR_SHARE_DIR) + "/config/vehicle_wheels.yaml";
+  double rate_hz = 0.0, out_rate_hz = 0.0, timeseries_rate_hz = 1.0;
+  int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  bool quiet = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool has_value = i + 1 < argc;
+    if (arg == "--help" || arg == "-h") {
+      std::fputs(kUsage, stdout);
+      return 0;
+    } else if (arg == "--out" && has_value) {
+      out = argv[++i];
+    } else if (arg == "--summary" && has_value) {
+      summary_path = argv[++i];
+    } else if (arg == "--timeseries" && has_value) {
+      timeseries_path = argv[++i];
+    } else if (arg == "--preset" && has_value) {
+      preset_name = argv[++i];
+    } else if (arg == "--wheels" && has_value) {
+      wheels_path = argv[++i];
+    } else if (arg == "--rate-hz" && has_value) {
+      rate_hz = std::atof(argv[++i]);
+    } else if (arg == "--out-rate-hz" && has_value) {
+      out_rate_hz = std::atof(argv[++i]);
+    } else if (arg == "--timeseries-rate-hz" && has_value) {
+      timeseries_rate_hz = std::atof(argv[++i]);
+    } else if (arg == "--threads" && has_value) {
+      threads = std::atoi(argv[++i]);
+    } else if (arg == "--quiet") {
+      quiet = true;
+    } else if (in.empty() && !arg.empty() && arg[0] != '-') {
+      in = arg;
+    } else {
+      std::fprintf(stderr, "tread_wear_replay: unknown or incomplete argument '%s'\n%s", arg.c_str(), kUsage);
+      return 2;
+    }
+  }
+  if (in.empty()) {
+    std::fprintf(stderr, "tread_wear_replay: the input bag is required\n%s", kUsage);
+    return 2;
+  }
+  try {
+    // A failed run must never leave an earlier summary that looks complete.
+    writeSummary(summary_path, {{"format", "tread_wear_replay_summary"}, {"version", 1}, {"complete", false},
+                                {"incomplete_reason", "replay did not finish"}, {"input", in}});
+    ros::Time::init();
+    tread_wear::ReplayConfig config = tread_wear::loadReplayConfig(wheels_path);
+    if (rate_hz > 0.0) config.settings.update_rate_hz = rate_hz;
+    if (!preset_name.empty() && !tread_wear::parsePreset(preset_name, &config.settings.model.preset))
+      throw std::runtime_error("--preset '" + preset_name + "' is not fast, standard or reference");
+    config.settings.threads = std::max(1, threads);
+    tread_wear::DriveReplay replay(config.settings, config.wheels);
+    const tread_wear::DriveInfo info = tread_wear::readDriveBag(in, config, &replay);
+
+    std::atomic<std::uint64_t> done{0};
+    std::atomic<bool> finished{false};
+    std::thread bar;
+    if (!quiet) bar = std::thread(showProgress, std::cref(done), replay.steps() * replay.wheelCount(), std::cref(finished));
+    replay.run(&done);
+    finished = true;
+    if (bar.joinable()) bar.join();
+
+    const tread_wear::ReplaySummary summary = replay.summarize(info.phases, info.time_offset_s);
+    nlohmann::json json = tread_wear::replaySummaryToJson(summary, config.settings);
+    json["input"] = in;
+    if (info.present) json["drive"] = info.json;
+    if (!out.empty()) {
+      const double rate = config.settings.update_rate_hz;
+      const auto decimation = out_rate_hz > 0.0 ? static_cast<std::uint64_t>(std::llround(std::max(1.0, rate / out_rate_hz))) : 1;
+      tread_wear::writeWearBag(out, replay, config, decimation);
+    }
+    if (!timeseries_path.empty()) {
+      const auto window = static_cast<std::uint64_t>(
+          std::llround(std::max(1.0, config.settings.update_rate_hz / std::max(timeseries_rate_hz, 1e-9))));
+      writeTimeseries(timeseries_path, replay, window, info.time_offset_s);
+    }
+    writeSummary(summary_path, json);
+    std::printf("%s: %.0f s replayed in %.2f s (%.0fx real time, preset %s, %g Hz, %zu wheels)%s\n", in.c_str(),
+                summary.end_s - summary.start_s, summary.wall_time_s,
+                summary.wall_time_s > 0 ? (summary.end_s - summary.start_s) / summary.wall_time_s : 0.0,
+                tread_wear::presetName(config.settings.model.preset), config.settings.update_rate_hz,
+                summary.wheels.size(), summary.complete ? "" : " INCOMPLETE");
+    for (const tread_wear::WheelSummary& w : summary.wheels)
+      std::printf("  %-12s %9.3f mg  %8.1f m  %8.2f mg/km  slide %.4f\n", w.name.c_str(), w.mass_loss_kg * 1e6,
+                  w.distance_m, w.mg_per_km, w.slide_fraction_mean);
+    if (!summary.complete) {
+      std::fprintf(stderr, "tread_wear_replay: incomplete replay: %s\n", summary.incomplete_reason.c_str());
+      return 3;
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "tread_wear_replay: %s\n", e.what());
+    try {
+      writeSummary(summary_path, {{"format", "tread_wear_replay_summary"}, {"version", 1}, {"complete", false},
+                                  {"incomplete_reason", e.what()}, {"input", in}});
+    } catch (const std::exception&) {  // the error above is what the user must see; exit code says it failed
+    }
+    return 1;
+  }
+  return 0;
+}
