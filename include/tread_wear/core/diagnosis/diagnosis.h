@@ -1,0 +1,117 @@
+#pragma once
+/// @file diagnosis.h
+/// Mismatch diagnosis: where the base model and the recordings disagree, which physics is missing, and how much
+/// better the model gets with it (issue 7). Steps:
+///  1. Weights. Residuals are relative errors (Eq 24), y = predicted/measured - 1, divided by a noise scale per
+///     output: the current model's in-sample RMSER of that output (floors 0.5% side force, 1% wear), set after
+///     the base fit and after every accepted term, so that each F test compares models under one weighting in
+///     which both outputs' residuals have about unit variance. (The repeats' pure error would include the
+///     very drifts the diagnosis looks for, e.g. polishing between repeats; it is reported beside.)
+///  2. Base fit: w3_scale and mu_scale (extensions.h) by bounded least squares (least_squares.h).
+///  3. Locate: the base residuals of each output against every covariate (data.h) and against the predicted
+///     output itself (a sensor gain or offset follows it): Spearman's rho with the OLS slope and the change over
+///     the observed range for numeric covariates, eta^2 and the largest group difference for categorical ones,
+///     permutation p-values, Holm-adjusted over all tests of both outputs (family-wise alpha_locate).
+///  4. Explain: forward selection over the library. At each step every applicable term not yet in the model is
+///     added and fitted (starting from the current solution; thermal_wear from three starts); a term is eligible
+///     when its partial F test against the current model has p < alpha_select / (terms tried) (Bonferroni) and
+///     AICc drops by at least min_aicc_drop; of the eligible, up to max_cv_candidates with the lowest AICc are
+///     cross-validated (leave one cycle out, else one condition, else one run; folds start from the full-data
+///     solution) and the one with the lowest held-out error is accepted if it beats the current model's held-out
+///     error. Stops after max_terms terms (pairs by default) or when nothing is accepted.
+///  5. Verdict: explanation = the accepted terms ("a+b"); "unexplained" when the locating tests found a
+///     significant mismatch but no term was accepted (the covariates the residual follows are listed); "none"
+///     when neither found anything. mismatch_found is true unless the verdict is "none".
+/// Limits: the F test and AICc assume independent, roughly normal weighted residuals; with few runs (the paper's
+/// nine means) they are indicative only, which the report says.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "tread_wear/core/diagnosis/data.h"
+#include "tread_wear/core/diagnosis/extensions.h"
+#include "tread_wear/core/least_squares.h"
+
+namespace tread_wear {
+namespace diagnosis {
+
+struct DiagnosisOptions {
+  ExtendedModelOptions model;      ///< preset and base orientation
+  double alpha_locate = 0.01;      ///< family-wise error rate of the locating tests (Holm) (0, 1)
+  double alpha_select = 0.01;      ///< family-wise error rate of the term tests per step (Bonferroni) (0, 1)
+  double min_aicc_drop = 2.0;      ///< AICc must drop by at least this to make a term eligible, >= 0
+  int max_terms = 2;               ///< largest combination (2 = pairs), >= 0
+  int max_cv_candidates = 3;       ///< eligible terms cross-validated per step, >= 1
+  int permutations = 9999;         ///< per locating test, >= 99
+  std::uint64_t seed = 7;          ///< permutation seed
+  std::vector<Term> candidates;    ///< terms to try; empty = the whole library
+  LeastSquaresOptions solver;      ///< least-squares settings
+
+  DiagnosisOptions();
+  bool validate(std::string* error) const;
+};
+
+/// One locating test.
+struct LocatedEffect {
+  Output output = Output::kSideForce;
+  std::string covariate;
+  std::string kind;           ///< operating region, sequence, recorded, output level
+  bool categorical = false;
+  double rho = 0.0;           ///< numeric: Spearman rho of the relative residual over the covariate [-]
+  double slope = 0.0;         ///< numeric: OLS slope [1/unit of the covariate]
+  double effect = 0.0;        ///< numeric: slope times range; categorical: largest group difference [-] (0.05 = 5 points of error ratio)
+  double eta_squared = 0.0;   ///< categorical: between-group share of variance [-]
+  double p_value = 1.0;       ///< permutation p-value
+  double p_adjusted = 1.0;    ///< Holm-adjusted
+  bool significant = false;   ///< p_adjusted < alpha_locate
+};
+
+/// A fitted model (base plus terms).
+struct FittedModel {
+  std::vector<Term> terms;
+  std::string label;               ///< termsLabel(terms)
+  LeastSquaresSummary summary;
+  Prediction prediction;
+  bool usable = false;
+  double rss = 0.0;                ///< weighted residual sum of squares
+  int n_residuals = 0;             ///< measured values fitted
+  int k = 0;                       ///< free parameters (+1 for the orientation switch)
+  double aicc = 0.0, bic = 0.0;
+  double rmser[kNumOutputs] = {0.0, 0.0};     ///< in sample [-]; NaN when the output is not measured
+  bool cv_done = false;
+  double cv_rmser[kNumOutputs] = {0.0, 0.0};  ///< held out [-]
+  double cv_score = 0.0;           ///< mean weighted held-out squared residual
+  double p_vs_parent = 1.0;        ///< partial F test against the model it extends
+  std::string parent;              ///< label of that model
+  bool eligible = false;
+};
+
+struct DiagnosisResult {
+  double noise_scale[kNumOutputs] = {0.0, 0.0};  ///< weights of the relative residuals in the last step [-]
+  double pure_error[kNumOutputs] = {0.0, 0.0};    ///< pooled relative spread of repeats [-]; NaN without repeats
+  int pure_error_dof[kNumOutputs] = {0, 0};       ///< its degrees of freedom
+  std::string cv_scheme;
+  std::vector<std::string> skipped_terms;         ///< "name: why" for terms the data cannot show
+  FittedModel base;
+  std::vector<FittedModel> tried;                 ///< every extended model fitted, in order
+  FittedModel final_model;
+  std::vector<LocatedEffect> located_before;      ///< tests on the base residuals (sorted by p)
+  std::vector<LocatedEffect> located_after;       ///< the same tests on the final model's residuals
+  bool mismatch_found = false;
+  std::string explanation;                        ///< library name, "a+b", "none" or "unexplained"
+  std::vector<std::string> unexplained_covariates;
+  std::vector<std::string> log;                   ///< the selection steps in words
+};
+
+/// Runs the whole diagnosis. @throw std::invalid_argument for invalid options or parameters.
+DiagnosisResult diagnose(const TireParams& base, const DiagnosisData& data, const DiagnosisOptions& options);
+
+/// Relative residuals predicted/measured - 1 of one output (NaN where not measured).
+std::vector<double> relativeResiduals(const DiagnosisData& data, const Prediction& prediction, Output output);
+
+/// Value of a named parameter in a fitted model; NaN when absent.
+double fittedValue(const FittedModel& model, const std::string& name, double* std_error = nullptr);
+
+}  // namespace diagnosis
+}  // namespace tread_wear

@@ -1,0 +1,66 @@
+#pragma once
+/// @file statistics.h
+/// Small, dependency-free statistics for the mismatch diagnosis: rank correlation and regression slope with
+/// permutation p-values, between-group effect size (eta squared) with a permutation p-value, Holm's step-down
+/// adjustment for many tests, the F distribution's tail (nested model comparison) and the information criteria
+/// AICc and BIC of a Gaussian least-squares fit.
+///
+/// Permutation p-values are (1 + #{|stat_perm| >= |stat_obs|}) / (1 + n_permutations) (Phipson & Smyth, 2010):
+/// exact-size tests that never return 0, so the smallest reachable p is 1 / (1 + n_permutations).
+/// Ties in ranks get the average rank. Everything is deterministic for a given seed.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace tread_wear {
+namespace diagnosis {
+
+/// Average ranks (1-based) with ties sharing the mean rank.
+std::vector<double> averageRanks(const std::vector<double>& x);
+/// Pearson correlation; 0 when either variable is constant.
+double pearson(const std::vector<double>& x, const std::vector<double>& y);
+/// Spearman's rank correlation (Pearson on average ranks).
+double spearman(const std::vector<double>& x, const std::vector<double>& y);
+/// Ordinary least-squares slope of y on x; 0 when x is constant.
+double olsSlope(const std::vector<double>& x, const std::vector<double>& y);
+
+struct TrendTest {
+  double rho = 0.0;          ///< Spearman rank correlation [-]
+  double slope = 0.0;        ///< OLS slope of y on x [unit of y per unit of x]
+  double effect = 0.0;       ///< slope times the observed range of x [unit of y]
+  double p_value = 1.0;      ///< two-sided permutation p-value of |rho|
+};
+/// Trend of y over x with a permutation test on |rho|. @throw std::invalid_argument for sizes < 3 or mismatched.
+TrendTest trendTest(const std::vector<double>& x, const std::vector<double>& y, int n_permutations,
+                    std::uint64_t seed);
+
+struct GroupTest {
+  double eta_squared = 0.0;  ///< between-group share of the variance of y [-]
+  double max_difference = 0.0;  ///< largest minus smallest group mean [unit of y]
+  int groups = 0;
+  double p_value = 1.0;      ///< permutation p-value of the between-group sum of squares
+};
+/// Differences between groups (labels 0..G-1). @throw std::invalid_argument for sizes < 3 or mismatched.
+GroupTest groupTest(const std::vector<int>& labels, const std::vector<double>& y, int n_permutations,
+                    std::uint64_t seed);
+
+/// Holm's step-down adjusted p-values (family-wise error control), aligned with the input.
+std::vector<double> holmAdjust(const std::vector<double>& p_values);
+
+/// Regularised incomplete beta function I_x(a, b), a, b > 0, 0 <= x <= 1 (continued fraction).
+double regularizedIncompleteBeta(double a, double b, double x);
+/// Upper tail P(F > f) of the F distribution with (d1, d2) degrees of freedom; 1 for f <= 0.
+double fDistributionUpperTail(double f, double d1, double d2);
+/// p-value of the partial F test of a larger nested model: RSS drops from rss_small to rss_large with
+/// extra_parameters more, residual degrees of freedom dof_large = n - k_large. 1 when nothing improved.
+double nestedFTestPValue(double rss_small, double rss_large, int extra_parameters, int dof_large);
+
+/// Corrected Akaike criterion of a Gaussian least-squares fit: n ln(rss/n) + 2k + 2k(k+1)/(n-k-1).
+/// +inf when n - k - 1 <= 0.
+double aicc(double rss, int n, int k);
+/// Bayesian (Schwarz) criterion: n ln(rss/n) + k ln(n).
+double bic(double rss, int n, int k);
+
+}  // namespace diagnosis
+}  // namespace tread_wear

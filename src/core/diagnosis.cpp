@@ -1,0 +1,406 @@
+#include "tread_wear/core/diagnosis/diagnosis.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include "tread_wear/core/diagnosis/statistics.h"
+
+namespace tread_wear {
+namespace diagnosis {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+/// Noise-scale floors [-]: a relative residual weight below these would let a handful of near-identical
+/// repeats dominate the fit (rig side force ~1 N on ~50 N is 2%; wear repeats scatter by several percent).
+constexpr double kNoiseFloor[kNumOutputs] = {0.005, 0.01};
+/// Noise scales [-] of the first base fit (the rig's typical 2% side force and 5% wear).
+constexpr double kDefaultNoise[kNumOutputs] = {0.02, 0.05};
+
+std::string format(double v, int precision = 4) {
+  std::ostringstream s;
+  s.precision(precision);
+  s << v;
+  return s.str();
+}
+
+class Fitter {
+ public:
+  Fitter(const TireParams& base, const DiagnosisData& data, const DiagnosisOptions& options, const double* noise)
+      : base_(base), data_(data), options_(options) {
+    for (int o = 0; o < kNumOutputs; ++o) noise_[o] = noise[o];
+  }
+
+  /// Fits base + terms, starting from `start` (values by parameter name) where given.
+  FittedModel fit(const std::vector<Term>& terms, const std::map<std::string, double>& start, bool cross_validate) {
+    ExtendedModel model(base_, options_.model, terms, data_);
+    std::vector<FitParameter> params = model.parameters();
+    for (FitParameter& p : params) {
+      const auto it = start.find(p.name);
+      if (it != start.end()) p.initial = std::clamp(it->second, p.lower, p.upper);
+    }
+    std::vector<std::vector<FitParameter>> starts = {params};
+    const int tw = model.parameterOffset(Term::kThermalWear);
+    if (tw >= 0 && !start.count("t0_c")) {
+      // Eq 25 is a bowl in T: start below, inside and above the observed temperatures.
+      double lo = INFINITY, hi = -INFINITY;
+      for (const DiagnosisRun& r : data_.runs) {
+        lo = std::min(lo, r.tread_temperature_c);
+        hi = std::max(hi, r.tread_temperature_c);
+      }
+      const double span = std::max(hi - lo, 5.0);
+      for (double t0 : {lo - 0.5 * span, 0.5 * (lo + hi), hi + 0.5 * span}) {
+        std::vector<FitParameter> s = params;
+        s[tw].initial = std::clamp(t0, s[tw].lower, s[tw].upper);
+        s[tw + 1].initial = span;
+        starts.push_back(s);
+      }
+      starts.erase(starts.begin());
+    }
+    FittedModel best;
+    bool have = false;
+    for (const auto& s : starts) {
+      LeastSquaresProblem problem = makeProblem(model, s);
+      LeastSquaresSummary summary = solveLeastSquares(problem, options_.solver);
+      if (!summary.usable) continue;
+      if (!have || summary.final_cost < best.summary.final_cost) {
+        best.summary = summary;
+        have = true;
+      }
+    }
+    best.terms = terms;
+    best.label = termsLabel(terms);
+    if (!have) return best;
+    best.usable = true;
+    best.k = static_cast<int>(params.size()) +
+             (std::find(terms.begin(), terms.end(), Term::kTurnSlipOrientation) != terms.end() ? 1 : 0);
+    model.predict(best.summary.values(), &best.prediction);
+    best.rss = 0.0;
+    best.n_residuals = 0;
+    for (int o = 0; o < kNumOutputs; ++o) {
+      const std::vector<double> y = relativeResiduals(data_, best.prediction, static_cast<Output>(o));
+      double ss = 0.0;
+      int m = 0;
+      for (double v : y)
+        if (std::isfinite(v)) {
+          ss += v * v;
+          ++m;
+        }
+      best.rmser[o] = m > 0 ? std::sqrt(ss / m) : kNaN;
+      best.rss += ss / (noise_[o] * noise_[o]);
+      best.n_residuals += m;
+    }
+    best.aicc = aicc(best.rss, best.n_residuals, best.k);
+    best.bic = bic(best.rss, best.n_residuals, best.k);
+    if (cross_validate) crossValidateModel(&best);
+    return best;
+  }
+
+  /// Leave-one-group-out error of a fitted model, folds starting from its full-data solution.
+  void crossValidateModel(FittedModel* fitted) {
+    ExtendedModel model(base_, options_.model, fitted->terms, data_);
+    std::vector<FitParameter> params = model.parameters();
+    const std::vector<double> values = fitted->summary.values();
+    for (std::size_t j = 0; j < params.size(); ++j) params[j].initial = std::clamp(values[j], params[j].lower, params[j].upper);
+    LeastSquaresProblem problem = makeProblem(model, params);
+    problem.groups = data_.cv_groups;
+    const CrossValidationResult cv = crossValidate(problem, options_.solver);
+    double ss[kNumOutputs] = {0.0, 0.0}, weighted = 0.0;
+    int m[kNumOutputs] = {0, 0}, total = 0;
+    for (std::size_t i = 0; i < data_.runs.size(); ++i)
+      for (int o = 0; o < kNumOutputs; ++o) {
+        if (!std::isfinite(data_.runs[i].measured[o])) continue;
+        const double r = cv.held_out_residuals[i * kNumOutputs + o];
+        if (!std::isfinite(r)) continue;
+        ss[o] += r * r * noise_[o] * noise_[o];
+        weighted += r * r;
+        ++m[o];
+        ++total;
+      }
+    for (int o = 0; o < kNumOutputs; ++o) fitted->cv_rmser[o] = m[o] > 0 ? std::sqrt(ss[o] / m[o]) : kNaN;
+    fitted->cv_score = total > 0 ? weighted / total : kNaN;
+    fitted->cv_done = total > 0;
+  }
+
+ private:
+  LeastSquaresProblem makeProblem(const ExtendedModel& model, const std::vector<FitParameter>& params) {
+    LeastSquaresProblem problem;
+    problem.parameters = params;
+    problem.num_records = static_cast<int>(data_.runs.size());
+    problem.residuals_per_record = kNumOutputs;
+    const ExtendedModel* m = &model;
+    problem.residuals = [this, m](const std::vector<double>& values, const std::vector<int>& records,
+                                  double* residuals) {
+      Prediction pred;
+      if (!m->predict(values, &pred)) return false;
+      for (std::size_t k = 0; k < records.size(); ++k) {
+        const DiagnosisRun& run = data_.runs[records[k]];
+        for (int o = 0; o < kNumOutputs; ++o) {
+          const double meas = run.measured[o];
+          residuals[k * kNumOutputs + o] =
+              std::isfinite(meas) ? (pred.value(static_cast<Output>(o), records[k]) / meas - 1.0) / noise_[o] : 0.0;
+        }
+      }
+      return true;
+    };
+    return problem;
+  }
+
+  const TireParams& base_;
+  const DiagnosisData& data_;
+  const DiagnosisOptions& options_;
+  double noise_[kNumOutputs];
+
+ public:
+  void setNoise(const double* noise) {
+    for (int o = 0; o < kNumOutputs; ++o) noise_[o] = noise[o];
+  }
+};
+
+/// Pooled relative spread of repeats (runs sharing a condition) per output, and its degrees of freedom.
+void pureError(const DiagnosisData& data, double* scale, int* dof) {
+  for (int o = 0; o < kNumOutputs; ++o) {
+    std::map<std::string, std::vector<double>> groups;
+    for (const DiagnosisRun& r : data.runs)
+      if (std::isfinite(r.measured[o])) groups[r.condition].push_back(r.measured[o]);
+    double ss = 0.0;
+    int d = 0;
+    for (const auto& [name, v] : groups) {
+      if (v.size() < 2) continue;
+      double mean = 0.0;
+      for (double x : v) mean += x;
+      mean /= v.size();
+      for (double x : v) ss += (x / mean - 1.0) * (x / mean - 1.0);
+      d += static_cast<int>(v.size()) - 1;
+    }
+    dof[o] = d;
+    scale[o] = d > 0 ? std::sqrt(ss / d) : kNaN;
+  }
+}
+
+std::vector<LocatedEffect> locate(const DiagnosisData& data, const Prediction& prediction,
+                                  const DiagnosisOptions& options) {
+  std::vector<LocatedEffect> tests;
+  std::uint64_t seed = options.seed;
+  for (int o = 0; o < kNumOutputs; ++o) {
+    const Output out = static_cast<Output>(o);
+    const std::vector<double> res = relativeResiduals(data, prediction, out);
+    std::vector<int> idx;
+    for (std::size_t i = 0; i < res.size(); ++i)
+      if (std::isfinite(res[i])) idx.push_back(static_cast<int>(i));
+    if (idx.size() < 6) continue;  // too few measured runs for a trend test with any power
+    std::vector<double> y;
+    for (int i : idx) y.push_back(res[i]);
+    std::vector<Covariate> covariates = data.covariates;
+    std::vector<double> level;
+    for (std::size_t i = 0; i < data.runs.size(); ++i) level.push_back(prediction.value(out, static_cast<int>(i)));
+    covariates.push_back({std::string("predicted_") + outputName(out), "output level", false, level, {}});
+    for (const Covariate& c : covariates) {
+      LocatedEffect e;
+      e.output = out;
+      e.covariate = c.name;
+      e.kind = c.kind;
+      e.categorical = c.categorical;
+      ++seed;
+      if (c.categorical) {
+        std::vector<int> labels;
+        std::map<int, int> remap;  // compact the levels present among the measured runs
+        for (int i : idx) {
+          const int l = static_cast<int>(c.values[i]);
+          labels.push_back(remap.emplace(l, static_cast<int>(remap.size())).first->second);
+        }
+        if (remap.size() < 2 || remap.size() * 2 > idx.size()) continue;
+        const GroupTest g = groupTest(labels, y, options.permutations, seed);
+        e.eta_squared = g.eta_squared;
+        e.effect = g.max_difference;
+        e.p_value = g.p_value;
+      } else {
+        std::vector<double> x;
+        for (int i : idx) x.push_back(c.values[i]);
+        if (std::adjacent_find(x.begin(), x.end(), std::not_equal_to<double>()) == x.end()) continue;
+        const TrendTest t = trendTest(x, y, options.permutations, seed);
+        e.rho = t.rho;
+        e.slope = t.slope;
+        e.effect = t.effect;
+        e.p_value = t.p_value;
+      }
+      tests.push_back(e);
+    }
+  }
+  std::vector<double> p;
+  for (const LocatedEffect& e : tests) p.push_back(e.p_value);
+  const std::vector<double> adj = holmAdjust(p);
+  for (std::size_t i = 0; i < tests.size(); ++i) {
+    tests[i].p_adjusted = adj[i];
+    tests[i].significant = adj[i] < options.alpha_locate;
+  }
+  std::stable_sort(tests.begin(), tests.end(),
+                   [](const LocatedEffect& a, const LocatedEffect& b) { return a.p_value < b.p_value; });
+  return tests;
+}
+
+std::map<std::string, double> valuesByName(const FittedModel& m) {
+  std::map<std::string, double> v;
+  for (const ParameterEstimate& p : m.summary.parameters) v[p.name] = p.value;
+  return v;
+}
+
+}  // namespace
+
+DiagnosisOptions::DiagnosisOptions() {
+  solver.max_iterations = 60;
+  solver.function_tolerance = 1e-8;
+  solver.parameter_tolerance = 1e-8;
+  solver.gradient_tolerance = 1e-10;
+  // The brush model is solved on a fixed grid: a step of 1e-4 in the internal coordinate keeps the finite
+  // differences well above its discretisation noise.
+  solver.jacobian_step = 1e-4;
+}
+
+bool DiagnosisOptions::validate(std::string* error) const {
+  auto fail = [&](const std::string& m) {
+    if (error) *error = "diagnosis options: " + m;
+    return false;
+  };
+  if (!(alpha_locate > 0.0 && alpha_locate < 1.0)) return fail("alpha_locate = " + format(alpha_locate) + " must be in (0, 1)");
+  if (!(alpha_select > 0.0 && alpha_select < 1.0)) return fail("alpha_select = " + format(alpha_select) + " must be in (0, 1)");
+  if (!(min_aicc_drop >= 0.0)) return fail("min_aicc_drop = " + format(min_aicc_drop) + " must be >= 0");
+  if (max_terms < 0) return fail("max_terms = " + std::to_string(max_terms) + " must be >= 0");
+  if (max_cv_candidates < 1) return fail("max_cv_candidates = " + std::to_string(max_cv_candidates) + " must be >= 1");
+  if (permutations < 99) return fail("permutations = " + std::to_string(permutations) + " must be >= 99");
+  std::string e;
+  if (!solver.validate(&e)) return fail(e);
+  return true;
+}
+
+std::vector<double> relativeResiduals(const DiagnosisData& data, const Prediction& prediction, Output output) {
+  std::vector<double> r(data.runs.size(), kNaN);
+  for (std::size_t i = 0; i < data.runs.size(); ++i) {
+    const double meas = data.runs[i].measured[static_cast<int>(output)];
+    if (std::isfinite(meas)) r[i] = prediction.value(output, static_cast<int>(i)) / meas - 1.0;
+  }
+  return r;
+}
+
+double fittedValue(const FittedModel& model, const std::string& name, double* std_error) {
+  for (const ParameterEstimate& p : model.summary.parameters)
+    if (p.name == name) {
+      if (std_error) *std_error = p.std_error;
+      return p.value;
+    }
+  if (std_error) *std_error = kNaN;
+  return kNaN;
+}
+
+DiagnosisResult diagnose(const TireParams& base, const DiagnosisData& data, const DiagnosisOptions& options) {
+  std::string error;
+  if (!options.validate(&error)) throw std::invalid_argument(error);
+  if (!base.validate(&error)) throw std::invalid_argument(error);
+  DiagnosisResult result;
+  result.cv_scheme = data.cv_scheme;
+
+  // 1. Weights: the current model's RMSER per output (floored); the repeats' pure error is reported beside it.
+  double pe[kNumOutputs];
+  int dof[kNumOutputs];
+  pureError(data, pe, dof);
+  for (int o = 0; o < kNumOutputs; ++o) {
+    result.pure_error[o] = pe[o];
+    result.pure_error_dof[o] = dof[o];
+    result.noise_scale[o] = kDefaultNoise[o];
+  }
+  Fitter fitter(base, data, options, result.noise_scale);
+  auto reweight = [&](const FittedModel& m) {
+    for (int o = 0; o < kNumOutputs; ++o)
+      if (std::isfinite(m.rmser[o])) result.noise_scale[o] = std::max(m.rmser[o], kNoiseFloor[o]);
+    fitter.setNoise(result.noise_scale);
+    return fitter.fit(m.terms, valuesByName(m), true);
+  };
+
+  // 2. Base fit, then again with its own RMSER as the noise scale.
+  result.base = fitter.fit({}, {}, false);
+  if (!result.base.usable) throw std::invalid_argument("the base model could not be fitted: " + result.base.summary.message);
+  result.base = reweight(result.base);
+
+  // 3. Locate.
+  result.located_before = locate(data, result.base.prediction, options);
+
+  // 4. Explain: forward selection.
+  std::vector<Term> pool = options.candidates;
+  if (pool.empty())
+    for (const TermInfo& t : termLibrary()) pool.push_back(t.term);
+  std::vector<Term> applicable;
+  for (Term t : pool) {
+    std::string why;
+    if (termApplicable(t, data, &why)) applicable.push_back(t);
+    else result.skipped_terms.push_back(termInfo(t).name + ": " + why);
+  }
+  FittedModel current = result.base;
+  for (int step = 0; step < options.max_terms; ++step) {
+    std::vector<FittedModel> fits;
+    for (Term t : applicable) {
+      if (std::find(current.terms.begin(), current.terms.end(), t) != current.terms.end()) continue;
+      std::vector<Term> terms = current.terms;
+      terms.push_back(t);
+      FittedModel f = fitter.fit(terms, valuesByName(current), false);
+      f.parent = current.label;
+      if (f.usable)
+        f.p_vs_parent = nestedFTestPValue(current.rss, f.rss, std::max(1, f.k - current.k),
+                                          f.n_residuals - f.k);
+      fits.push_back(std::move(f));
+    }
+    if (fits.empty()) break;
+    const double threshold = options.alpha_select / static_cast<double>(fits.size());
+    std::vector<int> eligible;
+    for (std::size_t i = 0; i < fits.size(); ++i) {
+      FittedModel& f = fits[i];
+      f.eligible = f.usable && f.p_vs_parent < threshold && current.aicc - f.aicc >= options.min_aicc_drop;
+      if (f.eligible) eligible.push_back(static_cast<int>(i));
+    }
+    std::sort(eligible.begin(), eligible.end(), [&](int a, int b) { return fits[a].aicc < fits[b].aicc; });
+    if (static_cast<int>(eligible.size()) > options.max_cv_candidates) eligible.resize(options.max_cv_candidates);
+    int best = -1;
+    for (int i : eligible) {
+      fitter.crossValidateModel(&fits[i]);
+      if (fits[i].cv_done && (best < 0 || fits[i].cv_score < fits[best].cv_score)) best = i;
+    }
+    std::ostringstream line;
+    line << "step " << step + 1 << " from '" << current.label << "': " << fits.size() << " terms tried, "
+         << eligible.size() << " eligible (F test p < " << format(threshold, 3) << ", AICc drop >= "
+         << options.min_aicc_drop << ")";
+    const bool accept = best >= 0 && fits[best].cv_score < current.cv_score;
+    if (best >= 0)
+      line << "; best held out: " << fits[best].label << " (score " << format(fits[best].cv_score) << " vs "
+           << format(current.cv_score) << ")" << (accept ? ", accepted" : ", not better out of sample: stop");
+    else
+      line << ": stop";
+    result.log.push_back(line.str());
+    for (FittedModel& f : fits) result.tried.push_back(f);
+    if (!accept) break;
+    current = reweight(fits[best]);
+  }
+  result.final_model = current;
+  result.located_after = locate(data, current.prediction, options);
+
+  // 5. Verdict.
+  const bool located = std::any_of(result.located_before.begin(), result.located_before.end(),
+                                   [](const LocatedEffect& e) { return e.significant; });
+  if (!current.terms.empty()) {
+    result.explanation = current.label;
+  } else if (located) {
+    result.explanation = "unexplained";
+    std::set<std::string> seen;
+    for (const LocatedEffect& e : result.located_before)
+      if (e.significant && seen.insert(e.covariate).second) result.unexplained_covariates.push_back(e.covariate);
+  } else {
+    result.explanation = "none";
+  }
+  result.mismatch_found = result.explanation != "none";
+  return result;
+}
+
+}  // namespace diagnosis
+}  // namespace tread_wear

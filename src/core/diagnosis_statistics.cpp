@@ -1,0 +1,212 @@
+#include "tread_wear/core/diagnosis/statistics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <random>
+#include <stdexcept>
+
+namespace tread_wear {
+namespace diagnosis {
+namespace {
+
+void checkPaired(std::size_t nx, std::size_t ny, const char* what) {
+  if (nx != ny) throw std::invalid_argument(std::string(what) + ": sizes differ");
+  if (nx < 3) throw std::invalid_argument(std::string(what) + ": needs at least 3 points");
+}
+
+double mean(const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0) / v.size(); }
+
+/// Between-group sum of squares of y for labels 0..G-1.
+double betweenGroupSS(const std::vector<int>& labels, const std::vector<double>& y, int groups, double grand_mean,
+                      std::vector<double>* sums, std::vector<int>* counts) {
+  std::fill(sums->begin(), sums->end(), 0.0);
+  std::fill(counts->begin(), counts->end(), 0);
+  for (std::size_t i = 0; i < y.size(); ++i) {
+    (*sums)[labels[i]] += y[i];
+    ++(*counts)[labels[i]];
+  }
+  double ss = 0.0;
+  for (int g = 0; g < groups; ++g) {
+    if ((*counts)[g] == 0) continue;
+    const double d = (*sums)[g] / (*counts)[g] - grand_mean;
+    ss += (*counts)[g] * d * d;
+  }
+  return ss;
+}
+
+}  // namespace
+
+std::vector<double> averageRanks(const std::vector<double>& x) {
+  std::vector<std::size_t> idx(x.size());
+  std::iota(idx.begin(), idx.end(), 0);
+  std::stable_sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) { return x[a] < x[b]; });
+  std::vector<double> ranks(x.size());
+  std::size_t i = 0;
+  while (i < idx.size()) {
+    std::size_t j = i;
+    while (j + 1 < idx.size() && x[idx[j + 1]] == x[idx[i]]) ++j;
+    const double r = 0.5 * (static_cast<double>(i) + static_cast<double>(j)) + 1.0;
+    for (std::size_t k = i; k <= j; ++k) ranks[idx[k]] = r;
+    i = j + 1;
+  }
+  return ranks;
+}
+
+double pearson(const std::vector<double>& x, const std::vector<double>& y) {
+  checkPaired(x.size(), y.size(), "pearson");
+  const double mx = mean(x), my = mean(y);
+  double sxy = 0.0, sxx = 0.0, syy = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    sxy += (x[i] - mx) * (y[i] - my);
+    sxx += (x[i] - mx) * (x[i] - mx);
+    syy += (y[i] - my) * (y[i] - my);
+  }
+  if (sxx <= 0.0 || syy <= 0.0) return 0.0;
+  return sxy / std::sqrt(sxx * syy);
+}
+
+double spearman(const std::vector<double>& x, const std::vector<double>& y) {
+  return pearson(averageRanks(x), averageRanks(y));
+}
+
+double olsSlope(const std::vector<double>& x, const std::vector<double>& y) {
+  checkPaired(x.size(), y.size(), "olsSlope");
+  const double mx = mean(x), my = mean(y);
+  double sxy = 0.0, sxx = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    sxy += (x[i] - mx) * (y[i] - my);
+    sxx += (x[i] - mx) * (x[i] - mx);
+  }
+  return sxx > 0.0 ? sxy / sxx : 0.0;
+}
+
+TrendTest trendTest(const std::vector<double>& x, const std::vector<double>& y, int n_permutations,
+                    std::uint64_t seed) {
+  checkPaired(x.size(), y.size(), "trendTest");
+  TrendTest t;
+  const std::vector<double> rx = averageRanks(x);
+  std::vector<double> ry = averageRanks(y);
+  t.rho = pearson(rx, ry);
+  t.slope = olsSlope(x, y);
+  const auto [lo, hi] = std::minmax_element(x.begin(), x.end());
+  t.effect = t.slope * (*hi - *lo);
+  if (t.rho == 0.0) return t;  // constant x or y: no evidence of a trend
+  std::mt19937_64 rng(seed);
+  int exceed = 0;
+  const double obs = std::abs(t.rho) - 1e-12;  // ties with the observed value count as exceedances
+  for (int k = 0; k < n_permutations; ++k) {
+    std::shuffle(ry.begin(), ry.end(), rng);
+    if (std::abs(pearson(rx, ry)) >= obs) ++exceed;
+  }
+  t.p_value = (1.0 + exceed) / (1.0 + n_permutations);
+  return t;
+}
+
+GroupTest groupTest(const std::vector<int>& labels, const std::vector<double>& y, int n_permutations,
+                    std::uint64_t seed) {
+  checkPaired(labels.size(), y.size(), "groupTest");
+  GroupTest g;
+  g.groups = labels.empty() ? 0 : *std::max_element(labels.begin(), labels.end()) + 1;
+  if (*std::min_element(labels.begin(), labels.end()) < 0) throw std::invalid_argument("groupTest: negative label");
+  const double m = mean(y);
+  double total = 0.0;
+  for (double v : y) total += (v - m) * (v - m);
+  std::vector<double> sums(g.groups);
+  std::vector<int> counts(g.groups);
+  const double obs = betweenGroupSS(labels, y, g.groups, m, &sums, &counts);
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (int k = 0; k < g.groups; ++k) {
+    if (counts[k] == 0) continue;
+    lo = std::min(lo, sums[k] / counts[k]);
+    hi = std::max(hi, sums[k] / counts[k]);
+  }
+  g.max_difference = hi - lo;
+  if (total <= 0.0 || g.groups < 2) return g;
+  g.eta_squared = obs / total;
+  std::mt19937_64 rng(seed);
+  std::vector<int> perm = labels;
+  int exceed = 0;
+  for (int k = 0; k < n_permutations; ++k) {
+    std::shuffle(perm.begin(), perm.end(), rng);
+    if (betweenGroupSS(perm, y, g.groups, m, &sums, &counts) >= obs * (1.0 - 1e-12)) ++exceed;
+  }
+  g.p_value = (1.0 + exceed) / (1.0 + n_permutations);
+  return g;
+}
+
+std::vector<double> holmAdjust(const std::vector<double>& p) {
+  const std::size_t m = p.size();
+  std::vector<std::size_t> idx(m);
+  std::iota(idx.begin(), idx.end(), 0);
+  std::stable_sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) { return p[a] < p[b]; });
+  std::vector<double> adj(m);
+  double running = 0.0;
+  for (std::size_t k = 0; k < m; ++k) {
+    running = std::max(running, std::min(1.0, static_cast<double>(m - k) * p[idx[k]]));
+    adj[idx[k]] = running;
+  }
+  return adj;
+}
+
+double regularizedIncompleteBeta(double a, double b, double x) {
+  if (!(a > 0.0) || !(b > 0.0) || !(x >= 0.0) || !(x <= 1.0))
+    throw std::invalid_argument("regularizedIncompleteBeta: needs a, b > 0 and 0 <= x <= 1");
+  if (x == 0.0 || x == 1.0) return x;
+  // Symmetry I_x(a,b) = 1 - I_{1-x}(b,a) keeps the continued fraction in its fast-converging region.
+  if (x > (a + 1.0) / (a + b + 2.0)) return 1.0 - regularizedIncompleteBeta(b, a, 1.0 - x);
+  const double ln_front = std::lgamma(a + b) - std::lgamma(a) - std::lgamma(b) + a * std::log(x) +
+                          b * std::log1p(-x);
+  // Modified Lentz evaluation of the continued fraction (Numerical Recipes, betacf).
+  const double tiny = 1e-300;
+  double c = 1.0, d = 1.0 - (a + b) * x / (a + 1.0);
+  if (std::abs(d) < tiny) d = tiny;
+  d = 1.0 / d;
+  double h = d;
+  for (int m = 1; m <= 500; ++m) {
+    const double m2 = 2.0 * m;
+    double aa = m * (b - m) * x / ((a - 1.0 + m2) * (a + m2));
+    d = 1.0 + aa * d;
+    if (std::abs(d) < tiny) d = tiny;
+    c = 1.0 + aa / c;
+    if (std::abs(c) < tiny) c = tiny;
+    d = 1.0 / d;
+    h *= d * c;
+    aa = -(a + m) * (a + b + m) * x / ((a + m2) * (a + 1.0 + m2));
+    d = 1.0 + aa * d;
+    if (std::abs(d) < tiny) d = tiny;
+    c = 1.0 + aa / c;
+    if (std::abs(c) < tiny) c = tiny;
+    d = 1.0 / d;
+    const double del = d * c;
+    h *= del;
+    if (std::abs(del - 1.0) < 1e-14) break;
+  }
+  return std::exp(ln_front) * h / a;
+}
+
+double fDistributionUpperTail(double f, double d1, double d2) {
+  if (!(d1 > 0.0) || !(d2 > 0.0)) throw std::invalid_argument("fDistributionUpperTail: needs d1, d2 > 0");
+  if (!(f > 0.0)) return 1.0;
+  return regularizedIncompleteBeta(0.5 * d2, 0.5 * d1, d2 / (d2 + d1 * f));
+}
+
+double nestedFTestPValue(double rss_small, double rss_large, int extra_parameters, int dof_large) {
+  if (extra_parameters <= 0 || dof_large <= 0 || !(rss_large > 0.0) || !(rss_small > rss_large)) return 1.0;
+  const double f = ((rss_small - rss_large) / extra_parameters) / (rss_large / dof_large);
+  return fDistributionUpperTail(f, extra_parameters, dof_large);
+}
+
+double aicc(double rss, int n, int k) {
+  if (n - k - 1 <= 0 || !(rss > 0.0)) return std::numeric_limits<double>::infinity();
+  return n * std::log(rss / n) + 2.0 * k + 2.0 * k * (k + 1.0) / (n - k - 1.0);
+}
+
+double bic(double rss, int n, int k) {
+  if (n <= 0 || !(rss > 0.0)) return std::numeric_limits<double>::infinity();
+  return n * std::log(rss / n) + k * std::log(static_cast<double>(n));
+}
+
+}  // namespace diagnosis
+}  // namespace tread_wear
