@@ -23,11 +23,6 @@ double wallNow_s() {
 
 /// Longest tire id the loop copies without allocating (the message strings are reserved to this).
 constexpr std::size_t kMaxTireIdLength = 63;
-/// Consecutive over-budget evaluations before the budget degrades the preset [-]: one slow cycle
-/// (a page fault, a preemption) must not degrade, a sustained overload must.
-constexpr int kOverBudgetStreak = 3;
-/// Period of trying the next finer preset again while degraded [s].
-constexpr double kUpgradeRetry_s = 5.0;
 
 std::uint8_t toMsgStatus(WheelStatus s) {
   switch (s) {
@@ -290,7 +285,6 @@ void TreadWearNode::reconfigure(tread_wear::TreadWearConfig& c, uint32_t) {
     preset = static_cast<Preset>(configured_preset_.load());
   }
   configured_preset_ = static_cast<int>(preset);
-  for (auto& w : wheels_) w->active_preset = static_cast<int>(preset);
   budget_us_ = c.budget_us;
   if (std::fabs(c.update_rate_hz - 1.0 / period_s_.load()) > 1e-9) {
     period_s_ = 1.0 / c.update_rate_hz;
@@ -300,27 +294,11 @@ void TreadWearNode::reconfigure(tread_wear::TreadWearConfig& c, uint32_t) {
            c.budget_us, c.preset.c_str());
 }
 
-void TreadWearNode::applyBudget(Wheel& wheel, double eval_us, double now_wall_s) {
+void TreadWearNode::countOverrun(Wheel& wheel, double eval_us) {
+  // Deadline of one evaluation: the budget when set, else the wheel's share of the update period.
   const double budget = budget_us_.load(std::memory_order_relaxed);
-  const int configured = configured_preset_.load(std::memory_order_relaxed);
   const double limit_us = budget > 0.0 ? budget : 1e6 * period_s_.load() / static_cast<double>(wheels_.size());
   if (eval_us > limit_us) wheel.overruns.fetch_add(1, std::memory_order_relaxed);
-  if (budget <= 0.0) return;
-  int active = wheel.active_preset.load(std::memory_order_relaxed);
-  if (eval_us > budget) {
-    if (++wheel.over_budget_streak >= kOverBudgetStreak && active > 0) {
-      --active;
-      wheel.over_budget_streak = 0;
-      wheel.last_upgrade_try_s = now_wall_s;
-    }
-  } else {
-    wheel.over_budget_streak = 0;
-    if (active < configured && now_wall_s - wheel.last_upgrade_try_s > kUpgradeRetry_s) {
-      ++active;
-      wheel.last_upgrade_try_s = now_wall_s;
-    }
-  }
-  wheel.active_preset.store(active, std::memory_order_relaxed);
 }
 
 void TreadWearNode::fillWheelMessage(Wheel& wheel, const WheelOutput& out, const ros::Time& stamp,
@@ -362,7 +340,12 @@ void TreadWearNode::loop(const ros::TimerEvent&) {
       std::lock_guard<std::mutex> lock(w.input_mutex);
       w.loop_inputs = w.inputs;
     }
-    w.model->setPreset(static_cast<Preset>(w.active_preset.load(std::memory_order_relaxed)));
+    // Apply live reconfiguration (plain stores in the model, no allocation). The model's time budget picks
+    // the finest preset whose measured time fits (wear_model.h).
+    const Preset wanted = static_cast<Preset>(configured_preset_.load(std::memory_order_relaxed));
+    if (w.model->wantedPreset() != wanted) w.model->setPreset(wanted);
+    const double budget_s = 1e-6 * budget_us_.load(std::memory_order_relaxed);
+    if (w.model->timeBudget() != budget_s) w.model->setTimeBudget(budget_s);
     std::lock_guard<std::mutex> lock(w.state_mutex);
     const double t0 = steadyNow_s();
     const WheelOutput& out = w.estimator->step(now_s, w.loop_inputs, *w.model);
@@ -371,7 +354,9 @@ void TreadWearNode::loop(const ros::TimerEvent&) {
     if (out.evaluated) {
       w.last_eval_us.store(eval_us, std::memory_order_relaxed);
       atomicMax(w.max_eval_us, eval_us);
-      applyBudget(w, eval_us, cycle_start);
+      countOverrun(w, eval_us);
+      w.active_preset.store(static_cast<int>(w.model->activePreset()), std::memory_order_relaxed);
+      w.degraded_count.store(w.model->degradedCount(), std::memory_order_relaxed);
     }
     if (w.publisher->trylock()) {
       fillWheelMessage(w, out, stamp, &w.publisher->msg());
@@ -609,6 +594,7 @@ void TreadWearNode::diagnoseWheel(Wheel& w, diagnostic_updater::DiagnosticStatus
   const Preset configured = static_cast<Preset>(configured_preset_.load());
   stat.add("preset", presetName(active));
   stat.add("degraded", active < configured ? "true" : "false");
+  stat.add("degraded evaluations", w.degraded_count.load());
   stat.addf("accumulated loss [kg]", "%.9g", out.accumulated_loss_kg);
   stat.addf("distance [m]", "%.6g", out.distance_m);
   stat.addf("remaining tread depth [m]", "%.6g", out.remaining_tread_depth_m);

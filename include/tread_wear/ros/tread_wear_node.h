@@ -76,9 +76,8 @@ class TreadWearNode {
     std::atomic<std::uint64_t> overruns{0};     ///< evaluations longer than the budget [-]
     std::atomic<double> last_eval_us{0.0};      ///< duration of the last evaluation [us]
     std::atomic<double> max_eval_us{0.0};       ///< longest evaluation since start [us]
-    std::atomic<int> active_preset{1};          ///< preset the loop uses (budget may degrade it)
-    int over_budget_streak = 0;                 ///< loop only
-    double last_upgrade_try_s = 0.0;            ///< loop only
+    std::atomic<int> active_preset{1};          ///< preset of the last evaluation (the budget may degrade it)
+    std::atomic<long> degraded_count{0};        ///< evaluations coarser than the configured preset [-]
     std::unique_ptr<RealtimePublisher<tread_wear::WheelWear>> publisher;
     ros::Subscriber load_sub, slip_sub, speed_sub, temperature_sub;
     // Diagnostics bookkeeping (diagnostics timer only).
@@ -91,7 +90,7 @@ class TreadWearNode {
   void restoreState();
   void loop(const ros::TimerEvent& event);
   void fillWheelMessage(Wheel& wheel, const WheelOutput& out, const ros::Time& stamp, tread_wear::WheelWear* msg);
-  void applyBudget(Wheel& wheel, double eval_us, double now_wall_s);
+  void countOverrun(Wheel& wheel, double eval_us);
   bool evaluateWear(tread_wear::EvaluateWear::Request& req, tread_wear::EvaluateWear::Response& res);
   bool resetWheel(tread_wear::ResetWheel::Request& req, tread_wear::ResetWheel::Response& res);
   void saveState(const char* reason);
