@@ -16,12 +16,19 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 bool hasPrior(const FitParameter& p) { return std::isfinite(p.prior_value) && std::isfinite(p.prior_sigma); }
 
+/// Typical magnitude of a linear parameter: |initial|, else half its finite range, else 1.
+double linearScale(const FitParameter& p) {
+  if (p.initial != 0.0) return std::abs(p.initial);
+  if (std::isfinite(p.upper - p.lower)) return 0.5 * (p.upper - p.lower);
+  return 1.0;
+}
+
 /// Maps between physical values and the internal coordinates u the solver works in.
 class Coordinates {
  public:
   explicit Coordinates(const std::vector<FitParameter>& params) : params_(params) {
     for (const FitParameter& p : params)
-      scale_.push_back(p.log_scale ? 1.0 : (p.initial != 0.0 ? std::abs(p.initial) : 1.0));
+      scale_.push_back(p.log_scale ? 1.0 : linearScale(p));
   }
   double toInternal(int j, double value) const {
     if (params_[j].log_scale) return value > 0.0 ? std::log(value) : (value == 0.0 ? -kInf : kNaN);

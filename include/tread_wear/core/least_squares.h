@@ -12,7 +12,8 @@
 ///     cost = 1/2 sum_records |r_i(theta)|^2 + 1/2 sum_priors ((u_j - u_j,prior) / sigma_j)^2
 /// subject to lower_j <= theta_j <= upper_j, where u is the internal coordinate of a parameter:
 ///     log_scale:  u = ln(theta)             (sigma_j is then a relative standard deviation)
-///     linear:     u = theta / scale_j       (scale_j = |initial| or 1 when initial = 0; sigma_j in units of scale_j)
+///     linear:     u = theta / scale_j       (sigma_j in units of scale_j)
+/// with scale_j = |initial|, or half the bound range when initial = 0, or 1 when that range is infinite.
 ///
 /// Solver: Ceres Solver 2.1 (Debian libceres-dev), Levenberg-Marquardt trust region with dense QR; bounds are
 /// native (projected steps), which Eigen's unsupported LevenbergMarquardt lacks. The Jacobian is taken by
