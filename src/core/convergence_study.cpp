@@ -17,14 +17,15 @@ namespace tread_wear {
 namespace {
 
 const char* const kUsage =
-    "usage: tread_wear_convergence [--params FILE] [--orientation literal|flipped|both] [--quick]\n"
+    "usage: tread_wear_convergence [--params FILE] [--orientation literal|flipped|both] [--quick] [--extended]\n"
     "Convergence study on the 7 unique Table 3 rig conditions: the reference solver (CVODE, stick/slide\n"
     "events) at its default settings and coarser ones, and the marcher (BDF2, return mapping) at grids\n"
     "50x4 ... 1600x64, against the reference solver with 4x the strips and its tolerance / 100.\n"
     "Prints Markdown tables; errors are relative, in %; times are CPU ms per evaluation.\n"
     "  --params FILE     tire parameter file (default: the built-in Grosch wheel, Table 4)\n"
     "  --orientation X   literal, flipped or both (default)\n"
-    "  --quick           fewer rows (reference sweep and marcher grids up to 400x32)\n";
+    "  --quick           fewer rows (reference sweep and marcher grids up to 400x32)\n"
+    "  --extended        also the marcher at 3200x256 and 6400x256 (about 1 s per evaluation)\n";
 
 struct Sample {
   std::vector<WearResult> results;
@@ -76,7 +77,7 @@ MaxErrors maxErrors(const Sample& s, const Sample& ref) {
 
 const char* orientationName(TurnSlipOrientation o) { return o == TurnSlipOrientation::kLiteral ? "literal" : "flipped"; }
 
-void study(const TireParams& params, TurnSlipOrientation orientation, bool quick, std::ostream& out) {
+void study(const TireParams& params, TurnSlipOrientation orientation, bool quick, bool extended, std::ostream& out) {
   const std::vector<OperatingPoint> points = table3RigConditions();
   ReferenceSolverOptions chosen;
   chosen.orientation = orientation;
@@ -131,6 +132,7 @@ void study(const TireParams& params, TurnSlipOrientation orientation, bool quick
   out << "| n_x_steps x n_strips | Fy % | Mz % | W_r % | CPU ms/eval |\n|---|---|---|---|---|\n";
   std::vector<std::pair<int, int>> grids = {{50, 4}, {100, 8}, {200, 16}, {400, 32}, {800, 64}, {1600, 64}};
   if (quick) grids.resize(4);
+  if (extended) grids.insert(grids.end(), {{3200, 256}, {6400, 256}});
   for (const auto& g : grids) {
     BrushOptions o;
     o.grid.n_x_steps = g.first;
@@ -164,7 +166,7 @@ std::vector<OperatingPoint> table3RigConditions() {
 
 int runConvergenceCli(int argc, const char* const argv[], std::ostream& out, std::ostream& err) {
   std::string params_path, orientation = "both";
-  bool quick = false;
+  bool quick = false, extended = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--help" || arg == "-h") {
@@ -176,6 +178,8 @@ int runConvergenceCli(int argc, const char* const argv[], std::ostream& out, std
       orientation = argv[++i];
     } else if (arg == "--quick") {
       quick = true;
+    } else if (arg == "--extended") {
+      extended = true;
     } else {
       err << "tread_wear_convergence: unknown or incomplete argument '" << arg << "'\n" << kUsage;
       return 2;
@@ -187,10 +191,11 @@ int runConvergenceCli(int argc, const char* const argv[], std::ostream& out, std
   }
   try {
     const TireParams params = params_path.empty() ? TireParams() : loadTireParams(params_path);
-    out << "## Convergence study (tread_wear_convergence" << (quick ? " --quick" : "") << ", params: "
+    out << "## Convergence study (tread_wear_convergence" << (quick ? " --quick" : "") << (extended ? " --extended" : "")
+        << ", params: "
         << (params_path.empty() ? "built-in Table 4" : params_path) << ")\n\n";
-    if (orientation != "flipped") study(params, TurnSlipOrientation::kLiteral, quick, out);
-    if (orientation != "literal") study(params, TurnSlipOrientation::kFlipped, quick, out);
+    if (orientation != "flipped") study(params, TurnSlipOrientation::kLiteral, quick, extended, out);
+    if (orientation != "literal") study(params, TurnSlipOrientation::kFlipped, quick, extended, out);
   } catch (const std::exception& e) {
     err << "tread_wear_convergence: " << e.what() << "\n";
     return 1;

@@ -18,7 +18,7 @@ namespace tread_wear {
 /// speed v0, slip angle -alpha, path curvature +1/0.060 m.
 std::vector<OperatingPoint> table3RigConditions();
 
-/// tread_wear_convergence [--params FILE] [--orientation literal|flipped|both] [--quick]
+/// tread_wear_convergence [--params FILE] [--orientation literal|flipped|both] [--quick] [--extended]
 /// Returns 0 on success, 2 on a usage error (message on err).
 int runConvergenceCli(int argc, const char* const argv[], std::ostream& out, std::ostream& err);
 
