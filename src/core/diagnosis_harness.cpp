@@ -1,0 +1,226 @@
+#include "tread_wear/core/diagnosis/harness.h"
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <map>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+namespace tread_wear {
+namespace diagnosis {
+namespace {
+
+/// Parameter criterion of the issue: within 25% of the true effect.
+constexpr double kParameterTolerance = 0.25;
+
+/// Small and large magnitudes of each term's primary parameter in the harness.
+std::vector<std::pair<std::string, double>> magnitudes(Term t, bool two) {
+  if (!two || t == Term::kTurnSlipOrientation) return {{"default", defaultMagnitude(t)}};
+  switch (t) {
+    case Term::kThermalWear: return {{"small", 45.0}, {"large", 30.0}};
+    case Term::kThermalFriction: return {{"small", 0.003}, {"large", 0.006}};
+    case Term::kSurfacePolishing: return {{"small", 0.3}, {"large", 0.8}};
+    case Term::kLateralCompliance: return {{"small", 2e-4}, {"large", 4e-4}};
+    case Term::kPressureFriction: return {{"small", 0.30}, {"large", 0.50}};
+    case Term::kLoadFluctuation: return {{"small", 0.25}, {"large", 0.40}};
+    case Term::kSensorGain: return {{"small", 1.05}, {"large", 1.10}};
+    case Term::kSensorOffset: return {{"small", 2.5}, {"large", 5.0}};
+    default: return {{"default", defaultMagnitude(t)}};
+  }
+}
+
+std::string pct(int num, int den) {
+  if (den == 0) return "-";
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(0) << 100.0 * num / den << "% (" << num << "/" << den << ")";
+  return s.str();
+}
+
+}  // namespace
+
+std::vector<HarnessCase> harnessCases(const HarnessOptions& options) {
+  std::vector<HarnessCase> cases;
+  std::vector<std::string> effects = options.effects;
+  if (effects.empty())
+    for (const TermInfo& t : termLibrary()) effects.push_back(t.name);
+  std::uint64_t seed = options.seed;
+  for (double wn : options.wear_noise) {
+    const double fn = options.side_force_noise_n * wn / 0.05;
+    for (const std::string& e : effects) {
+      Term t;
+      if (!parseTerm(e, &t)) continue;
+      for (const auto& [label, mag] : magnitudes(t, options.two_magnitudes))
+        for (int r = 0; r < options.repeats; ++r) {
+          HarnessCase c;
+          c.spec.effect = e;
+          c.spec.magnitude = mag;
+          c.spec.design = options.design;
+          c.spec.wear_noise_rsd = wn;
+          c.spec.side_force_noise_n = fn;
+          c.spec.seed = ++seed;
+          c.spec.model = options.diagnosis.model;
+          c.magnitude_label = label;
+          cases.push_back(c);
+        }
+    }
+    for (int r = 0; r < options.control_repeats; ++r) {
+      HarnessCase c;
+      c.spec.effect = "none";
+      c.spec.design = options.design;
+      c.spec.wear_noise_rsd = wn;
+      c.spec.side_force_noise_n = fn;
+      c.spec.seed = ++seed;
+      c.spec.model = options.diagnosis.model;
+      c.magnitude_label = "-";
+      cases.push_back(c);
+    }
+  }
+  return cases;
+}
+
+HarnessOutcome scoreCase(const HarnessCase& c, const ConcealAnswer& answer, const DiagnosisResult& result) {
+  HarnessOutcome o;
+  o.c = c;
+  o.explanation = result.explanation;
+  o.right = result.explanation == answer.effect;
+  for (int k = 0; k < kNumOutputs; ++k) {
+    o.cv_before[k] = result.base.cv_rmser[k];
+    o.cv_after[k] = result.final_model.cv_rmser[k];
+  }
+  if (answer.effect == "none") return o;
+  Term t;
+  parseTerm(answer.effect, &t);
+  const TermInfo& info = termInfo(t);
+  o.improved_scored = true;
+  o.improved = true;
+  for (int k = 0; k < kNumOutputs; ++k)
+    if (info.affects[k]) o.improved = o.improved && o.cv_after[k] < o.cv_before[k];
+  if (!answer.primary.empty()) {
+    o.truth = answer.primary_value;
+    const bool selected =
+        std::find(result.final_model.terms.begin(), result.final_model.terms.end(), t) != result.final_model.terms.end();
+    o.parameter_scored = true;
+    if (selected) {
+      o.estimate = fittedValue(result.final_model, answer.primary);
+      const double scale =
+          std::isfinite(answer.primary_neutral) ? std::abs(o.truth - answer.primary_neutral) : std::abs(o.truth);
+      o.parameter_ok = std::abs(o.estimate - o.truth) <= kParameterTolerance * scale;
+    }
+  }
+  return o;
+}
+
+std::vector<HarnessOutcome> runHarness(const TireParams& base, const HarnessOptions& options, std::ostream* progress) {
+  const std::vector<HarnessCase> cases = harnessCases(options);
+  std::vector<HarnessOutcome> outcomes(cases.size());
+  std::atomic<std::size_t> next{0};
+  std::mutex io;
+  auto worker = [&]() {
+    for (std::size_t i = next++; i < cases.size(); i = next++) {
+      const auto t0 = std::chrono::steady_clock::now();
+      HarnessOutcome o;
+      try {
+        const ConcealCase cc = concealEffect(base, cases[i].spec);
+        const DiagnosisData data = buildDiagnosisData(cc.table);
+        DiagnosisOptions dopt = options.diagnosis;
+        dopt.seed = cases[i].spec.seed;
+        const DiagnosisResult r = diagnose(base, data, dopt);
+        o = scoreCase(cases[i], cc.answer, r);
+      } catch (const std::exception& e) {
+        o.c = cases[i];
+        o.error = e.what();
+      }
+      o.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      outcomes[i] = o;
+      if (progress) {
+        std::lock_guard<std::mutex> lock(io);
+        *progress << "[" << i + 1 << "/" << cases.size() << "] " << o.c.spec.effect << " " << o.c.magnitude_label
+                  << " noise " << o.c.spec.wear_noise_rsd << " seed " << o.c.spec.seed << " -> "
+                  << (o.error.empty() ? o.explanation : "ERROR " + o.error) << " (" << std::fixed
+                  << std::setprecision(1) << o.seconds << " s)\n" << std::defaultfloat;
+      }
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int j = 1; j < std::max(1, options.jobs); ++j) threads.emplace_back(worker);
+  worker();
+  for (std::thread& t : threads) t.join();
+  return outcomes;
+}
+
+std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
+  struct Tally {
+    int n = 0, right = 0, pscored = 0, pok = 0, iscored = 0, iok = 0, errors = 0;
+  };
+  std::map<std::tuple<std::string, std::string, double>, Tally> rows;
+  std::map<std::pair<std::string, double>, Tally> per_effect;
+  std::vector<std::string> order;
+  for (const HarnessOutcome& o : outcomes) {
+    const auto key = std::make_tuple(o.c.spec.effect, o.c.magnitude_label, o.c.spec.wear_noise_rsd);
+    for (Tally* t : {&rows[key], &per_effect[{o.c.spec.effect, o.c.spec.wear_noise_rsd}]}) {
+      ++t->n;
+      if (!o.error.empty()) {
+        ++t->errors;
+        continue;
+      }
+      t->right += o.right;
+      t->pscored += o.parameter_scored;
+      t->pok += o.parameter_ok;
+      t->iscored += o.improved_scored;
+      t->iok += o.improved;
+    }
+    if (std::find(order.begin(), order.end(), o.c.spec.effect) == order.end()) order.push_back(o.c.spec.effect);
+  }
+  std::ostringstream s;
+  s << "| hidden effect | magnitude | wear RSD | cases | right explanation | parameter within 25% | "
+       "held-out RMSER improved |\n|---|---|---|---|---|---|---|\n";
+  for (const std::string& e : order)
+    for (const auto& [key, t] : rows) {
+      if (std::get<0>(key) != e) continue;
+      s << "| " << e << " | " << std::get<1>(key) << " | " << std::get<2>(key) * 100 << "% | " << t.n << " | "
+        << pct(t.right, t.n - t.errors) << " | " << pct(t.pok, t.pscored) << " | " << pct(t.iok, t.iscored) << " |"
+        << (t.errors ? " " + std::to_string(t.errors) + " failed" : "") << "\n";
+    }
+  s << "\nPer effect (all magnitudes):\n\n| hidden effect | wear RSD | cases | right explanation (`none` for "
+       "controls) | parameter within 25% | held-out RMSER improved |\n|---|---|---|---|---|---|\n";
+  Tally total5, control5;
+  for (const std::string& e : order)
+    for (const auto& [key, t] : per_effect) {
+      if (key.first != e) continue;
+      s << "| " << e << " | " << key.second * 100 << "% | " << t.n << " | " << pct(t.right, t.n - t.errors) << " | "
+        << pct(t.pok, t.pscored) << " | " << pct(t.iok, t.iscored) << " |\n";
+      if (std::abs(key.second - 0.05) < 1e-9) {
+        Tally& dst = e == "none" ? control5 : total5;
+        dst.n += t.n - t.errors;
+        dst.right += t.right;
+        dst.pok += t.pok;
+        dst.pscored += t.pscored;
+        dst.iok += t.iok;
+        dst.iscored += t.iscored;
+      }
+    }
+  s << "\nAt wear RSD 5%: right explanation " << pct(total5.right, total5.n) << ", parameter within 25% "
+    << pct(total5.pok, total5.pscored) << ", held-out RMSER improved " << pct(total5.iok, total5.iscored)
+    << "; controls `none` " << pct(control5.right, control5.n) << ".\n";
+  return s.str();
+}
+
+std::string harnessCsv(const std::vector<HarnessOutcome>& outcomes) {
+  std::ostringstream s;
+  s << std::setprecision(8);
+  s << "effect,magnitude_label,magnitude,wear_noise_rsd,side_force_noise_n,seed,explanation,right,parameter_ok,"
+       "estimate,truth,improved,cv_before_side_force,cv_before_wear,cv_after_side_force,cv_after_wear,seconds,error\n";
+  for (const HarnessOutcome& o : outcomes)
+    s << o.c.spec.effect << "," << o.c.magnitude_label << "," << o.c.spec.magnitude << "," << o.c.spec.wear_noise_rsd
+      << "," << o.c.spec.side_force_noise_n << "," << o.c.spec.seed << "," << o.explanation << "," << o.right << ","
+      << (o.parameter_scored ? std::to_string(o.parameter_ok) : "") << "," << o.estimate << "," << o.truth << ","
+      << (o.improved_scored ? std::to_string(o.improved) : "") << "," << o.cv_before[0] << "," << o.cv_before[1]
+      << "," << o.cv_after[0] << "," << o.cv_after[1] << "," << o.seconds << ",\"" << o.error << "\"\n";
+  return s.str();
+}
+
+}  // namespace diagnosis
+}  // namespace tread_wear
