@@ -1,2 +1,227 @@
+// Offline replay of drive bags: the replay equals the wear model integrated along the drive (computed here
+// directly, without the estimator), does not depend on the thread count, and bad bags (missing file, truncated
+// data, missing topics, wrong types) give a clear error, a non-zero exit and no summary marked complete.
 #include <gtest/gtest.h>
-TEST(DriveReplay, Placeholder) {}
+#include <ros/time.h>
+#include <rosbag/bag.h>
+#include <std_msgs/String.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+
+#include <nlohmann/json.hpp>
+
+#include "bag_io.h"
+#include "tread_wear/WheelLoad.h"
+#include "tread_wear/WheelSlip.h"
+#include "tread_wear/WheelSpeed.h"
+
+namespace tread_wear {
+namespace {
+
+const std::string kSource = TREAD_WEAR_SOURCE_DIR;
+const std::string kConfig = kSource + "/config/vehicle_wheels.yaml";
+
+/// 12 s: launch to 40 km/h, cruise, brake to 20 km/h; deterministic route with a junction turn or bend.
+SpeedProfile shortProfile() {
+  return SpeedProfile({0, 2, 6, 9, 12}, {0, 10 / 3.6, 40 / 3.6, 40 / 3.6, 20 / 3.6}, {{"A", 0, 6}, {"B", 6, 12}}, "short");
+}
+
+std::string tempPath(const std::string& name) { return ::testing::TempDir() + name; }
+
+std::string writeShortDrive(const std::string& name, double rate_hz) {
+  const SpeedProfile profile = shortProfile();
+  RouteParams rp;
+  const Route route = buildRoute(profile, rp);
+  DriveOptions options;
+  options.rate_hz = rate_hz;
+  for (int w = 0; w < kWheelCount; ++w) options.wheel_names.push_back(wheelName(w));
+  const std::string path = tempPath(name);
+  writeDriveBag(path, profile, route, VehicleModel(loadVehicleParams(kSource + "/config/vehicle_passenger_car.yaml")),
+                rp, options);
+  return path;
+}
+
+struct RunResult {
+  int exit_code;
+  nlohmann::json summary;
+};
+
+RunResult runReplay(const std::string& bag, const std::string& tag) {
+  const std::string summary = tempPath(tag + "_summary.json");
+  std::remove(summary.c_str());
+  const std::string cmd = std::string(TREAD_WEAR_REPLAY_BINARY) + " " + bag + " --quiet --summary " + summary +
+                          " > " + tempPath(tag + ".log") + " 2>&1";
+  const int status = std::system(cmd.c_str());
+  RunResult r{WEXITSTATUS(status), nlohmann::json()};
+  std::ifstream in(summary);
+  if (in) in >> r.summary;
+  return r;
+}
+
+std::string log(const std::string& tag) {
+  std::ifstream in(tempPath(tag + ".log"));
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+TEST(DriveReplay, EqualsTheWearModelIntegratedAlongTheDrive) {
+  ros::Time::init();
+  const std::string bag = writeShortDrive("short.bag", 50.0);
+  ReplayConfig config = loadReplayConfig(kConfig);
+  config.settings.update_rate_hz = 50.0;  // steps on the sample times: every step sees the newest sample
+  DriveReplay replay(config.settings, config.wheels);
+  const DriveInfo info = readDriveBag(bag, config, &replay);
+  ASSERT_TRUE(info.present);
+  ASSERT_EQ(info.phases.size(), 2u);
+  replay.run();
+  const ReplaySummary summary = replay.summarize(info.phases, info.time_offset_s);
+  ASSERT_TRUE(summary.complete) << summary.incomplete_reason;
+
+  // Independent reference: evaluate the model at every drive sample and integrate with the trapezoid rule.
+  const SpeedProfile profile = shortProfile();
+  RouteParams rp;
+  const Route route = buildRoute(profile, rp);
+  const VehicleModel car(loadVehicleParams(kSource + "/config/vehicle_passenger_car.yaml"));
+  for (int w = 0; w < kWheelCount; ++w) {
+    const WearModel model(config.wheels[static_cast<std::size_t>(w)].tire, config.settings.model);
+    double loss = 0.0, distance = 0.0, prev_rate = 0.0, prev_speed = 0.0, phase_a = 0.0;
+    for (int k = 0; k <= 600; ++k) {
+      const double t = k / 50.0;
+      VehicleState s;
+      car.evaluate({profile.speed(t), profile.acceleration(t), route.curvature(profile.distance(t))}, &s);
+      const WheelState& ws = s.wheels[static_cast<std::size_t>(w)];
+      OperatingPoint op;
+      op.speed_mps = ws.speed_mps;
+      op.slip_angle_rad = ws.slip_angle_rad;
+      op.slip_ratio = ws.slip_ratio;
+      op.path_curvature_per_m = ws.path_curvature_per_m;
+      op.load_n = ws.load_n;
+      WearResult r;
+      model.evaluate(op, &r);
+      if (k > 0) {
+        const double d_loss = 0.5 * (prev_rate + r.wear_rate_kg_per_s) / 50.0;
+        loss += d_loss;
+        distance += 0.5 * (prev_speed + ws.speed_mps) / 50.0;
+        if (t < 6.0) phase_a += d_loss;
+      }
+      prev_rate = r.wear_rate_kg_per_s;
+      prev_speed = ws.speed_mps;
+    }
+    const WheelSummary& got = summary.wheels[static_cast<std::size_t>(w)];
+    // Same operating points, same rule: only summation order differs (1e-12 relative).
+    EXPECT_NEAR(got.mass_loss_kg, loss, 1e-12 * loss) << got.name;
+    EXPECT_NEAR(got.distance_m, distance, 1e-9 * distance) << got.name;
+    EXPECT_NEAR(got.phase_loss_kg[0], phase_a, 1e-12 * loss) << got.name;
+    EXPECT_GT(loss, 0.0);
+  }
+  // Thread count does not change anything.
+  config.settings.threads = 1;
+  DriveReplay single(config.settings, config.wheels);
+  readDriveBag(bag, config, &single);
+  single.run();
+  for (int w = 0; w < kWheelCount; ++w)
+    EXPECT_EQ(single.records(w).back().accumulated_loss_kg, replay.records(w).back().accumulated_loss_kg);
+}
+
+TEST(DriveReplay, ToolWritesACompleteSummaryForAGoodBag) {
+  ros::Time::init();
+  const RunResult r = runReplay(writeShortDrive("good.bag", 50.0), "good");
+  ASSERT_EQ(r.exit_code, 0) << log("good");
+  EXPECT_TRUE(r.summary.at("complete").get<bool>());
+  ASSERT_EQ(r.summary.at("wheels").size(), 4u);
+  for (const auto& w : r.summary.at("wheels")) {
+    EXPECT_GT(w.at("mass_loss_kg").get<double>(), 0.0);
+    EXPECT_NEAR(w.at("mg_per_km").get<double>(),
+                w.at("mass_loss_kg").get<double>() / w.at("distance_m").get<double>() * 1e9, 1e-9);
+    EXPECT_TRUE(w.contains("slide_fraction_mean"));
+    EXPECT_TRUE(w.contains("name"));
+  }
+  EXPECT_EQ(r.summary.at("phases").size(), 2u);
+}
+
+TEST(DriveReplay, MissingFileFails) {
+  const RunResult r = runReplay(tempPath("does_not_exist.bag"), "missing");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_FALSE(r.summary.at("complete").get<bool>());
+  EXPECT_NE(log("missing").find("cannot open the bag"), std::string::npos) << log("missing");
+}
+
+TEST(DriveReplay, TruncatedBagFails) {
+  ros::Time::init();
+  const std::string good = writeShortDrive("to_truncate.bag", 50.0);
+  std::ifstream in(good, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  const std::string cut = tempPath("truncated.bag");
+  std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  const RunResult r = runReplay(cut, "truncated");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_FALSE(r.summary.at("complete").get<bool>());
+  EXPECT_NE(log("truncated").find("not a readable bag"), std::string::npos) << log("truncated");
+}
+
+TEST(DriveReplay, MissingTopicAndWrongTypeFail) {
+  ros::Time::init();
+  const std::string path = tempPath("partial.bag");
+  {
+    rosbag::Bag bag(path, rosbag::bagmode::Write);
+    WheelLoad load;
+    WheelSlip slip;
+    WheelSpeed speed;
+    load.load_n = 3000.0;
+    speed.speed_mps = 10.0;
+    for (int k = 1; k <= 50; ++k) {
+      const ros::Time t(1000.0 + k * 0.02);
+      for (const char* name : {"front_left", "front_right", "rear_left", "rear_right"}) {
+        bag.write(std::string("/wheels/") + name + "/load", t, load);
+        bag.write(std::string("/wheels/") + name + "/slip", t, slip);
+        if (std::string(name) != "rear_right") bag.write(std::string("/wheels/") + name + "/speed", t, speed);
+      }
+    }
+  }
+  RunResult r = runReplay(path, "missing_topic");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_FALSE(r.summary.at("complete").get<bool>());
+  EXPECT_NE(log("missing_topic").find("missing topic /wheels/rear_right/speed"), std::string::npos)
+      << log("missing_topic");
+
+  {
+    rosbag::Bag bag(path, rosbag::bagmode::Append);
+    std_msgs::String text;
+    bag.write("/wheels/rear_right/speed", ros::Time(1000.02), text);
+  }
+  r = runReplay(path, "wrong_type");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_FALSE(r.summary.at("complete").get<bool>());
+  EXPECT_NE(log("wrong_type").find("has type std_msgs/String, expected tread_wear/WheelSpeed"), std::string::npos)
+      << log("wrong_type");
+}
+
+TEST(DriveReplay, GapsMakeTheSummaryIncomplete) {
+  // A bag whose wheels stop sending half-way: the replay finishes but must not claim completeness.
+  ros::Time::init();
+  ReplayConfig config = loadReplayConfig(kConfig);
+  DriveReplay replay(config.settings, config.wheels);
+  for (int w = 0; w < replay.wheelCount(); ++w) {
+    for (int k = 0; k <= 100; ++k) {
+      const double t = 1000.0 + k * 0.02;
+      if (w == 0 && k > 50) break;
+      for (InputKind kind : {InputKind::kLoad, InputKind::kSlip, InputKind::kSpeed}) {
+        InputSample s;
+        s.t_s = t;
+        s.kind = kind;
+        s.value[0] = kind == InputKind::kLoad ? 3000.0 : kind == InputKind::kSpeed ? 10.0 : 0.0;
+        replay.addSample(w, s);
+      }
+    }
+  }
+  replay.run();
+  const ReplaySummary s = replay.summarize({});
+  EXPECT_FALSE(s.complete);
+  EXPECT_NE(s.incomplete_reason.find(config.wheels[0].name), std::string::npos) << s.incomplete_reason;
+}
+
+}  // namespace
+}  // namespace tread_wear
