@@ -132,7 +132,10 @@ void study(const TireParams& params, TurnSlipOrientation orientation, bool quick
   out << "| n_x_steps x n_strips | Fy % | Mz % | W_r % | CPU ms/eval |\n|---|---|---|---|---|\n";
   std::vector<std::pair<int, int>> grids = {{50, 4}, {100, 8}, {200, 16}, {400, 32}, {800, 64}, {1600, 64}};
   if (quick) grids.resize(4);
-  if (extended) grids.insert(grids.end(), {{3200, 256}, {6400, 256}});
+  if (extended) {
+    grids.emplace_back(3200, 256);
+    grids.emplace_back(6400, 256);
+  }
   for (const auto& g : grids) {
     BrushOptions o;
     o.grid.n_x_steps = g.first;
