@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "tread_wear/core/units.h"
@@ -206,15 +207,14 @@ SlideRoot solveSlide(const SavkoorLog& sk, const SlideProblem& pr, double z_floo
   const double r = std::sqrt(pr.t2x + pr.t2y);
   double z_lo = z_floor, z_hi = std::log(r / std::min(pr.dx, pr.dy));
   double z = z_guess;
-  if (!have_guess) {
-    // Closed-form creep root mu(s) p = r (D s neglected): exact on the rising branch as D s -> 0.
-    const double e = (r / pr.sat_p - sk.mu_0) / sk.dmu;
-    if (e > 0.0 && e < 1.0) {
-      z = sk.ln_vm - std::sqrt(-std::log(e) / sk.c);
-    } else {  // viscous estimate: D s carries what friction at its floor mu_0 p does not
-      const double s_visc = std::sqrt(pr.t2x / (pr.dx * pr.dx) + pr.t2y / (pr.dy * pr.dy));
-      z = std::log(std::max(s_visc * (1.0 - pr.sat_p * sk.mu_0 / r), 1e-300));
-    }
+  // Closed-form creep root mu(s) p = r with D s neglected, on the rising branch (s < v_m): the better
+  // start there; beyond the peak of mu the warm start is.
+  const double e = (r / pr.sat_p - sk.mu_0) / sk.dmu;
+  if (e > 0.0 && e < 1.0) {
+    z = sk.ln_vm - std::sqrt(-std::log(e) / sk.c);
+  } else if (!have_guess) {  // viscous estimate: D s carries what friction at its floor mu_0 p does not
+    const double s_visc = std::sqrt(pr.t2x / (pr.dx * pr.dx) + pr.t2y / (pr.dy * pr.dy));
+    z = std::log(std::max(s_visc * (1.0 - pr.sat_p * sk.mu_0 / r), 1e-300));
   }
   if (!(z > z_lo && z < z_hi)) z = 0.5 * (z_lo + z_hi);
   for (int it = 1; it <= max_iterations; ++it) {
@@ -284,6 +284,9 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
   const double w1 = wl.w1, w2 = wl.w2, w4 = wl.w4_kg_per_s_m2;
   const double ln_w3_over_mpa_w1 = std::log(w3) - w1 * std::log(units::kMegapascal);
   const double v_m = fr.v_m_mps;
+  // ln|v_s| below which w3 (|tau|/1 MPa)^w1 |v_s|^w2 < 1e-9 w4 for any |tau| <= 100 MPa.
+  const double z_wear_cut = w4 > 0.0 ? (std::log(1e-9 * w4) - ln_w3_over_mpa_w1 - w1 * std::log(100e6)) / w2
+                                     : -std::numeric_limits<double>::infinity();
   const double p_scale = Fz / (2.0 * a) / (2.0 * b);  // p = p_scale g_x g_y
   const double sat_floor = friction_.saturation(fr.p_0_pa);
   const int n = static_cast<int>(s_.size()) - 1;
@@ -354,7 +357,9 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
   for (int i = 0; i < n; ++i) {
     const Step& st = steps_[i];
     const double g = st.beta * a * st.ds / Vr;  // beta h [s]
-    const double Dx = m / g + cx + kx * g, Dy = m / g + cy + ky * g;
+    const double m_over_g = m / g;
+    const double Dx = m_over_g + cx + kx * g, Dy = m_over_g + cy + ky * g;
+    const double inv_dx = 1.0 / Dx, inv_dy = 1.0 / Dy;
     const double x = a * s_[i + 1];
     const double px = std::max(0.0, p_scale * gx_even_[i + 1] * (1.0 - Bx * s_[i + 1]));
     const double sat_x = px > 0.0 ? std::pow(px / fr.p_ref_pa, -fr.q) : 0.0;
@@ -369,7 +374,7 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
       const double tau_static = fr.mu_0 * sat_p;
       const double dhx = st.a1 * e.dlx + st.a2 * e.dlx_p, dhy = st.a1 * e.dly + st.a2 * e.dly_p;
       const double uhx = st.a1 * e.ux + st.a2 * e.ux_p, uhy = st.a1 * e.uy + st.a2 * e.uy_p;
-      const double bx = m * uhx / g - kx * dhx, by = m * uhy / g - ky * dhy;
+      const double bx = m_over_g * uhx - kx * dhx, by = m_over_g * uhy - ky * dhy;
 
       double ndx = dhx + g * e.ux, ndy = dhy + g * e.uy;  // predictor for the Omega delta coupling
       double tx = 0.0, ty = 0.0, nux = 0.0, nuy = 0.0, vsx = 0.0, vsy = 0.0, s = 0.0, mup = 0.0, z = 0.0;
@@ -396,11 +401,11 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
           if (s > 0.0) {
             mup = root.mup;
             z = root.z;
-            const double gxs = Dx * s + mup, gys = Dy * s + mup;
-            vsx = -ttx * s / gxs;
-            vsy = -tty * s / gys;
-            tx = mup * ttx / gxs;
-            ty = mup * tty / gys;
+            const double igx = 1.0 / (Dx * s + mup), igy = 1.0 / (Dy * s + mup);
+            vsx = -ttx * s * igx;
+            vsy = -tty * s * igy;
+            tx = mup * ttx * igx;
+            ty = mup * tty * igy;
           } else {  // creep at the static limit along the trial direction
             const double tt = std::sqrt(t2x + t2y);
             vsx = vsy = z = 0.0;
@@ -408,8 +413,8 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
             ty = tau_static * tty / tt;
           }
         }
-        nux = (tx + bx) / Dx;
-        nuy = (ty + by) / Dy;
+        nux = (tx + bx) * inv_dx;
+        nuy = (ty + by) * inv_dy;
         ndx = dhx + g * nux;
         ndy = dhy + g * nuy;
       }
@@ -426,8 +431,9 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
       e.sliding = s > 0.0;
       e.z = z;
 
-      // Eq 19 per time; at the slide root |tau| = mu p exactly, and ln|v_s| = z is known.
-      const double wt = s > 0.0 ? w4 + std::exp(ln_w3_over_mpa_w1 + w1 * std::log(mup) + w2 * z) : w4;
+      // Eq 19 per time; at the slide root |tau| = mu p exactly, and ln|v_s| = z is known. Below z_wear_cut
+      // the sliding term is under 1e-9 w4 (deep creep) and is skipped.
+      const double wt = (s > 0.0 && z > z_wear_cut) ? w4 + std::exp(ln_w3_over_mpa_w1 + w1 * std::log(mup) + w2 * z) : w4;
       const double w = wy_[j] * strip_weight[j];
       fx_i += tx * w;
       fy_i += ty * w;
