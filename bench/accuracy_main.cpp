@@ -1,7 +1,10 @@
 /// Accuracy table of the wear-model presets against a fine reference (docs/performance.md).
-///   tread_wear_accuracy [--road-params FILE] [--coarse] [--grid NX NY GRADING sine|gauss PASSES TOL]...
+///   tread_wear_accuracy [--reference marcher|cvode] [--road-params FILE] [--coarse]
+///                       [--grid NX NY GRADING sine|gauss PASSES TOL]...
 /// Prints, for each preset (and each --grid candidate), the maximum error over the Table 3 rig grid
-/// (Grosch wheel, both orientations) and the road grid (road tire), with the worst condition.
+/// (Grosch wheel, both orientations) and the road grid, with the worst condition. The reference is
+/// the marcher's 'reference' preset (default) or ReferenceBrushSolver (CVODE, default options); where
+/// the CVODE solver throws, that condition falls back to the marcher reference and is counted.
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -11,6 +14,7 @@
 
 #include "bench_conditions.h"
 #include "tread_wear/core/params_io.h"
+#include "tread_wear/core/reference_solver.h"
 #include "tread_wear/core/wear_model.h"
 
 using namespace tread_wear;
@@ -31,6 +35,24 @@ std::vector<WearResult> evaluateAll(const TireParams& params, const BrushOptions
   std::vector<WearResult> out(conditions.size());
   for (size_t k = 0; k < conditions.size(); ++k)
     (conditions[k].orientation == TurnSlipOrientation::kLiteral ? m_lit : m_flip).evaluate(conditions[k].op, &out[k]);
+  return out;
+}
+
+std::vector<WearResult> cvodeAll(const TireParams& params, const std::vector<bench::Condition>& conditions,
+                                 const std::vector<WearResult>& fallback, int* failures) {
+  ReferenceSolverOptions lit, flip;
+  flip.orientation = TurnSlipOrientation::kFlipped;
+  ReferenceBrushSolver s_lit(params, lit), s_flip(params, flip);
+  std::vector<WearResult> out(conditions.size());
+  for (size_t k = 0; k < conditions.size(); ++k) {
+    try {
+      (conditions[k].orientation == TurnSlipOrientation::kLiteral ? s_lit : s_flip).evaluate(conditions[k].op, &out[k]);
+    } catch (const std::exception& e) {
+      ++*failures;
+      std::fprintf(stderr, "CVODE reference failed at %s (marcher reference used): %s\n", conditions[k].label.c_str(), e.what());
+      out[k] = fallback[k];
+    }
+  }
   return out;
 }
 
@@ -57,11 +79,14 @@ void report(const std::string& name, const std::string& set, const std::vector<b
 int main(int argc, char** argv) {
   std::string road_params_path;  // default: the Grosch wheel (see docs/performance.md for why not the passenger tire)
   bool coarse = false;
+  bool use_cvode = false;
   std::vector<Candidate> candidates;
-  for (Preset p : {Preset::kFast, Preset::kStandard}) candidates.push_back({presetName(p), presetOptions(p)});
+  for (Preset p : {Preset::kFast, Preset::kStandard, Preset::kReference}) candidates.push_back({presetName(p), presetOptions(p)});
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--road-params") && i + 1 < argc) {
       road_params_path = argv[++i];
+    } else if (!std::strcmp(argv[i], "--reference") && i + 1 < argc) {
+      use_cvode = !std::strcmp(argv[++i], "cvode");
     } else if (!std::strcmp(argv[i], "--coarse")) {
       coarse = true;
     } else if (!std::strcmp(argv[i], "--grid") && i + 6 < argc) {
@@ -88,11 +113,17 @@ int main(int argc, char** argv) {
   const double nominal = road.name == grosch.name ? 100.0 : 4000.0;
   const auto rig = bench::rigConditions();
   const auto roadset = bench::roadConditions(nominal, coarse);
-  std::printf("reference: marcher preset 'reference' (%d x %d); road tire: %s (nominal load %.0f N), %zu road and %zu rig conditions\n",
-              presetOptions(Preset::kReference).grid.n_x_steps, presetOptions(Preset::kReference).grid.n_strips,
+  auto ref_rig = evaluateAll(grosch, presetOptions(Preset::kReference), rig);
+  auto ref_road = evaluateAll(road, presetOptions(Preset::kReference), roadset);
+  int failures = 0;
+  if (use_cvode) {
+    ref_rig = cvodeAll(grosch, rig, ref_rig, &failures);
+    ref_road = cvodeAll(road, roadset, ref_road, &failures);
+  }
+  std::printf("reference: %s; road tire: %s (nominal load %.0f N), %zu road and %zu rig conditions\n",
+              use_cvode ? ("ReferenceBrushSolver (CVODE), " + std::to_string(failures) + " condition(s) fell back to the marcher").c_str()
+                        : "marcher preset 'reference' (1600 x 64)",
               road.name.c_str(), nominal, roadset.size(), rig.size());
-  const auto ref_rig = evaluateAll(grosch, presetOptions(Preset::kReference), rig);
-  const auto ref_road = evaluateAll(road, presetOptions(Preset::kReference), roadset);
   std::printf("%-28s %-5s %8s %8s %8s %8s %7s %7s\n", "preset", "grid", "Fx", "Fy", "Mz", "W_r", "stick", "exact");
   for (const Candidate& c : candidates) {
     report(c.name, "rig", rig, ref_rig, evaluateAll(grosch, c.options, rig));

@@ -5,6 +5,10 @@
 /// (counters median_us, p99_us, max_us), and the maximum error against the marcher's reference preset
 /// (counters err_F_pct = max over Fx, Fy, Mz; err_W_pct; err_frac = max over stick and exact-stick
 /// fractions), measured once per benchmark. Grids and error scales: bench_conditions.h.
+/// BM_ReferenceSolver times the CVODE ReferenceBrushSolver (default options) on the same grids: the
+/// reference for the speed-up ratio and the "naive" general-purpose stiff integrator per element path
+/// (BDF with a dense Jacobian and event location at every stick/slide switch, no return mapping).
+/// Conditions where it throws are skipped and counted (counter failures).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -13,6 +17,7 @@
 #include <vector>
 
 #include "bench_conditions.h"
+#include "tread_wear/core/reference_solver.h"
 #include "tread_wear/core/wear_model.h"
 
 using namespace tread_wear;
@@ -82,7 +87,41 @@ void BM_Evaluate(benchmark::State& state) {
   state.SetLabel(std::string(presetName(preset)) + (which == 0 ? " rig(Table 3)" : " road grid"));
 }
 
+void BM_ReferenceSolver(benchmark::State& state) {
+  const int which = static_cast<int>(state.range(0));
+  const auto& conds = grid(which);
+  const TireParams params;
+  ReferenceSolverOptions o_lit, o_flip;
+  o_flip.orientation = TurnSlipOrientation::kFlipped;
+  ReferenceBrushSolver lit(params, o_lit), flip(params, o_flip);
+  std::vector<double> samples;
+  int failures = 0;
+  WearResult r;
+  for (auto _ : state) {
+    failures = 0;
+    for (const auto& c : conds) {
+      ReferenceBrushSolver& m = c.orientation == TurnSlipOrientation::kLiteral ? lit : flip;
+      const auto t0 = std::chrono::steady_clock::now();
+      try {
+        m.evaluate(c.op, &r);
+      } catch (const std::exception&) {
+        ++failures;
+        continue;
+      }
+      samples.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+  }
+  std::sort(samples.begin(), samples.end());
+  auto pct = [&](double q) { return samples.empty() ? 0.0 : samples[std::min(samples.size() - 1, size_t(q * samples.size()))]; };
+  state.counters["median_us"] = pct(0.5) * 1e6;
+  state.counters["p99_us"] = pct(0.99) * 1e6;
+  state.counters["failures"] = failures;
+  state.SetLabel(std::string("CVODE reference") + (which == 0 ? " rig(Table 3)" : " road grid"));
+}
+
 }  // namespace
+
+BENCHMARK(BM_ReferenceSolver)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 BENCHMARK(BM_Evaluate)
     ->ArgsProduct({{0, 1, 2}, {0, 1}})

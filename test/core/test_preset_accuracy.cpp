@@ -1,0 +1,106 @@
+// Measured error bounds of the fast and standard presets (docs/performance.md) hold on a modest grid
+// of conditions against the fine reference: the marcher's 'reference' preset (1600 x 64), which agrees
+// with the CVODE ReferenceBrushSolver within 0.03% (Fx, Fy) and 0.2% (Mz, W_r) on these grids
+// (docs/performance.md). The bounds are the whole-grid maxima of the accuracy study, rounded up; the
+// grid here is the Table 3 rig set plus a road subset that contains the study's worst conditions.
+// Error scales (bench/bench_conditions.h, restated): F relative to max(|F_ref|, 0.05 |F_ref vector|,
+// 0.005 Fz); Mz relative to max(|Mz_ref|, a times that force floor); W_r relative; fractions absolute.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "tread_wear/core/units.h"
+#include "tread_wear/core/wear_model.h"
+
+namespace tread_wear {
+namespace {
+
+struct Bounds {
+  double force, mz, wear, fraction;
+};
+
+struct Case {
+  OperatingPoint op;
+  TurnSlipOrientation orientation;
+};
+
+std::vector<Case> rigCases() {
+  const double table3[7][3] = {{1, 10, 75}, {2, 10, 75}, {3, 10, 75}, {2, 5, 75}, {2, 15, 75}, {2, 10, 50}, {2, 10, 100}};
+  std::vector<Case> out;
+  for (TurnSlipOrientation o : {TurnSlipOrientation::kLiteral, TurnSlipOrientation::kFlipped})
+    for (const auto& row : table3) {
+      Case c{OperatingPoint(), o};
+      c.op.speed_mps = row[0];
+      c.op.slip_angle_rad = -row[1] * units::kDegree;
+      c.op.load_n = row[2];
+      c.op.path_curvature_per_m = 1.0 / 0.060;
+      out.push_back(c);
+    }
+  return out;
+}
+
+std::vector<Case> roadCases() {
+  // {Fz [N], alpha [deg], kappa, V [m/s], curvature [1/m]}
+  const double rows[][5] = {{150, 0, -0.2, 0.5, 0},  {50, 0, -0.05, 40, 0.2}, {50, 0, 0.05, 40, 0.2},
+                            {100, 3, 0, 5, 0.2},     {100, 10, 0, 5, 0},      {100, 25, 0, 20, 0.2},
+                            {150, 6, 0.2, 20, 0},    {50, 15, -0.2, 0.5, 0.2}, {100, 1, 0.05, 40, 0},
+                            {150, 10, -0.05, 5, 0.2}, {50, 25, 0.2, 40, 0},   {100, 0, 0.2, 5, 0}};
+  std::vector<Case> out;
+  for (const auto& r : rows) {
+    Case c{OperatingPoint(), TurnSlipOrientation::kLiteral};
+    c.op.load_n = r[0];
+    c.op.slip_angle_rad = r[1] * units::kDegree;
+    c.op.slip_ratio = r[2];
+    c.op.speed_mps = r[3];
+    c.op.path_curvature_per_m = r[4];
+    out.push_back(c);
+  }
+  return out;
+}
+
+void checkPreset(Preset preset, const std::vector<Case>& cases, const Bounds& bounds) {
+  const TireParams params;
+  for (const Case& c : cases) {
+    const BrushWearModel ref(params, presetOptions(Preset::kReference, c.orientation));
+    const BrushWearModel model(params, presetOptions(preset, c.orientation));
+    WearResult r0, r;
+    ref.evaluate(c.op, &r0);
+    model.evaluate(c.op, &r);
+    const double f_floor = std::max(0.05 * std::hypot(r0.fx_n, r0.fy_n), 0.005 * c.op.load_n);
+    const std::string where = std::string(presetName(preset)) + " at Fz=" + std::to_string(c.op.load_n) +
+                              " alpha=" + std::to_string(c.op.slip_angle_rad) + " kappa=" + std::to_string(c.op.slip_ratio) +
+                              " V=" + std::to_string(c.op.speed_mps) + " c=" + std::to_string(c.op.path_curvature_per_m);
+    EXPECT_LE(std::fabs(r.fx_n - r0.fx_n) / std::max(std::fabs(r0.fx_n), f_floor), bounds.force) << where;
+    EXPECT_LE(std::fabs(r.fy_n - r0.fy_n) / std::max(std::fabs(r0.fy_n), f_floor), bounds.force) << where;
+    EXPECT_LE(std::fabs(r.mz_nm - r0.mz_nm) / std::max(std::fabs(r0.mz_nm), r0.half_length_m * f_floor), bounds.mz) << where;
+    EXPECT_LE(std::fabs(r.wear_rate_kg_per_m / r0.wear_rate_kg_per_m - 1.0), bounds.wear) << where;
+    EXPECT_LE(std::fabs(r.stick_fraction - r0.stick_fraction), bounds.fraction) << where;
+    EXPECT_LE(std::fabs(r.exact_stick_fraction - r0.exact_stick_fraction), bounds.fraction) << where;
+  }
+}
+
+// Bounds: docs/performance.md, "Accuracy" (whole-grid maxima, rounded up).
+TEST(PresetAccuracy, StandardOnTable3Rig) { checkPreset(Preset::kStandard, rigCases(), {0.005, 0.03, 0.015, 0.01}); }
+TEST(PresetAccuracy, StandardOnRoadGrid) { checkPreset(Preset::kStandard, roadCases(), {0.015, 0.09, 0.18, 0.075}); }
+TEST(PresetAccuracy, FastOnTable3Rig) { checkPreset(Preset::kFast, rigCases(), {0.015, 0.04, 0.02, 0.02}); }
+TEST(PresetAccuracy, FastOnRoadGrid) { checkPreset(Preset::kFast, roadCases(), {0.04, 0.20, 0.20, 0.08}); }
+
+// The presets are ordered: on the Table 3 rig conditions standard is at least as accurate as fast in
+// W_r summed over the grid (a refinement that did not help would be a wasted preset).
+TEST(PresetAccuracy, StandardImprovesOnFastForWearOnTheRig) {
+  const TireParams params;
+  double err_fast = 0.0, err_standard = 0.0;
+  for (const Case& c : rigCases()) {
+    WearResult r0, rf, rs;
+    BrushWearModel(params, presetOptions(Preset::kReference, c.orientation)).evaluate(c.op, &r0);
+    BrushWearModel(params, presetOptions(Preset::kFast, c.orientation)).evaluate(c.op, &rf);
+    BrushWearModel(params, presetOptions(Preset::kStandard, c.orientation)).evaluate(c.op, &rs);
+    err_fast += std::fabs(rf.wear_rate_kg_per_m / r0.wear_rate_kg_per_m - 1.0);
+    err_standard += std::fabs(rs.wear_rate_kg_per_m / r0.wear_rate_kg_per_m - 1.0);
+  }
+  EXPECT_LT(err_standard, err_fast);
+}
+
+}  // namespace
+}  // namespace tread_wear
