@@ -66,6 +66,10 @@ void DriveReplay::addSample(int wheel, const InputSample& sample) {
   if (!samples.empty() && sample.t_s < samples.back().t_s)
     throw std::invalid_argument("replay: samples of wheel '" + wheels_[static_cast<std::size_t>(wheel)].name +
                                 "' out of time order");
+  bool first = true;
+  for (const auto& r : runs_) first = first && r->samples.empty();
+  t0_ = first ? sample.t_s : std::min(t0_, sample.t_s);
+  t_end_ = first ? sample.t_s : std::max(t_end_, sample.t_s);
   samples.push_back(sample);
 }
 
@@ -84,13 +88,6 @@ std::uint64_t DriveReplay::steps() const {
 
 void DriveReplay::run(std::atomic<std::uint64_t>* progress) {
   const auto start = std::chrono::steady_clock::now();
-  bool first = true;
-  for (const auto& r : runs_) {
-    if (r->samples.empty()) continue;
-    t0_ = first ? r->samples.front().t_s : std::min(t0_, r->samples.front().t_s);
-    t_end_ = first ? r->samples.back().t_s : std::max(t_end_, r->samples.back().t_s);
-    first = false;
-  }
   std::atomic<int> next{0};
   auto worker = [&]() {
     for (int w = next++; w < wheelCount(); w = next++) runWheel(w, progress);

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <cstdlib>
 #include <exception>
 #include <fstream>
@@ -143,19 +144,25 @@ int main(int argc, char** argv) {
       throw std::runtime_error("--preset '" + preset_name + "' is not fast, standard or reference");
     config.settings.threads = std::max(1, threads);
     tread_wear::DriveReplay replay(config.settings, config.wheels);
+    const auto read_start = std::chrono::steady_clock::now();
     const tread_wear::DriveInfo info = tread_wear::readDriveBag(in, config, &replay);
+    const double read_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - read_start).count();
+    const std::clock_t cpu_start = std::clock();
 
     std::atomic<std::uint64_t> done{0};
     std::atomic<bool> finished{false};
     std::thread bar;
     if (!quiet) bar = std::thread(showProgress, std::cref(done), replay.steps() * replay.wheelCount(), std::cref(finished));
     replay.run(&done);
+    const double cpu_s = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
     finished = true;
     if (bar.joinable()) bar.join();
 
     const tread_wear::ReplaySummary summary = replay.summarize(info.phases, info.time_offset_s);
     nlohmann::json json = tread_wear::replaySummaryToJson(summary, config.settings);
     json["input"] = in;
+    json["bag_read_s"] = read_s;
+    json["compute_cpu_s"] = cpu_s;  // CPU time of all replay threads: load-independent cost measure
     if (info.present) json["drive"] = info.json;
     if (!out.empty()) {
       const double rate = config.settings.update_rate_hz;
@@ -173,6 +180,8 @@ int main(int argc, char** argv) {
                 summary.wall_time_s > 0 ? (summary.end_s - summary.start_s) / summary.wall_time_s : 0.0,
                 tread_wear::presetName(config.settings.model.preset), config.settings.update_rate_hz,
                 summary.wheels.size(), summary.complete ? "" : " INCOMPLETE");
+    std::printf("  bag read %.2f s; compute %.2f s wall, %.2f s CPU (%.0fx real time per CPU second)\n", read_s,
+                summary.wall_time_s, cpu_s, cpu_s > 0 ? (summary.end_s - summary.start_s) / cpu_s : 0.0);
     for (const tread_wear::WheelSummary& w : summary.wheels)
       std::printf("  %-12s %9.3f mg  %8.1f m  %8.2f mg/km  slide %.4f\n", w.name.c_str(), w.mass_loss_kg * 1e6,
                   w.distance_m, w.mg_per_km, w.slide_fraction_mean);
