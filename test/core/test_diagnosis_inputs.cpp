@@ -1,0 +1,141 @@
+// Malformed inputs of the diagnosis tools get clear errors and the documented exit codes.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "tread_wear/core/diagnosis/cli.h"
+#include "tread_wear/core/diagnosis/data.h"
+#include "tread_wear/core/diagnosis/extensions.h"
+
+using namespace tread_wear;
+using namespace tread_wear::diagnosis;
+
+namespace {
+
+const std::string kParams = std::string(TREAD_WEAR_SOURCE_DIR) + "/config/tires/grosch_wheel.yaml";
+
+struct CliResult {
+  int code;
+  std::string out, err;
+};
+
+CliResult diagnoseCli(std::vector<std::string> args, const BagReader& reader = {}) {
+  args.insert(args.begin(), "tread_wear_diagnose");
+  std::vector<const char*> argv;
+  for (const std::string& a : args) argv.push_back(a.c_str());
+  std::ostringstream out, err;
+  const int code = runDiagnoseCli(static_cast<int>(argv.size()), argv.data(), reader, "", out, err);
+  return {code, out.str(), err.str()};
+}
+
+CliResult concealCli(std::vector<std::string> args) {
+  args.insert(args.begin(), "tread_wear_conceal");
+  std::vector<const char*> argv;
+  for (const std::string& a : args) argv.push_back(a.c_str());
+  std::ostringstream out, err;
+  const int code = runConcealCli(static_cast<int>(argv.size()), argv.data(), out, err);
+  return {code, out.str(), err.str()};
+}
+
+std::string tempFile(const std::string& name, const std::string& text) {
+  const std::filesystem::path p = std::filesystem::temp_directory_path() / ("tw_diag_" + name);
+  std::ofstream(p) << text;
+  return p.string();
+}
+
+RunRecord rigRun(double fy) {
+  RunRecord r;
+  r.op.speed_mps = 2.0;
+  r.op.slip_angle_rad = -0.17;
+  r.op.path_curvature_per_m = 1.0 / 0.06;
+  r.op.load_n = 75.0;
+  r.measured_side_force_n = fy;
+  r.measured_wear_rate_kg_per_m = 6e-7;
+  r.condition_id = "bench";
+  return r;
+}
+
+}  // namespace
+
+TEST(DiagnosisInputs, TooFewRuns) {
+  RunTable t;
+  for (int i = 0; i < 3; ++i) t.runs.push_back(rigRun(50.0));
+  try {
+    buildDiagnosisData(t);
+    FAIL() << "expected DiagnosisError";
+  } catch (const DiagnosisError& e) {
+    EXPECT_NE(std::string(e.what()).find("at least 4"), std::string::npos) << e.what();
+  }
+}
+
+TEST(DiagnosisInputs, ZeroMeasurementNamesTheRun) {
+  RunTable t;
+  for (int i = 0; i < 5; ++i) t.runs.push_back(rigRun(50.0));
+  t.runs[2].measured_side_force_n = 0.0;
+  try {
+    buildDiagnosisData(t);
+    FAIL() << "expected DiagnosisError";
+  } catch (const DiagnosisError& e) {
+    EXPECT_NE(std::string(e.what()).find("run 3"), std::string::npos) << e.what();
+  }
+}
+
+TEST(DiagnosisInputs, TermsNeedTheirCovariates) {
+  RunTable t;
+  for (int i = 0; i < 5; ++i) t.runs.push_back(rigRun(50.0 + i));
+  const DiagnosisData d = buildDiagnosisData(t);
+  std::string why;
+  EXPECT_FALSE(termApplicable(Term::kThermalWear, d, &why));
+  EXPECT_NE(why.find("temperature"), std::string::npos);
+  EXPECT_FALSE(termApplicable(Term::kSurfacePolishing, d, &why));
+  EXPECT_FALSE(termApplicable(Term::kLoadFluctuation, d, &why));
+  EXPECT_TRUE(termApplicable(Term::kTurnSlipOrientation, d, &why));
+  EXPECT_TRUE(termApplicable(Term::kLateralCompliance, d, &why));
+}
+
+TEST(DiagnosisInputs, CliUsageErrors) {
+  EXPECT_EQ(diagnoseCli({"--runs", "x.csv", "--report", "r"}).code, 2);  // no --params
+  EXPECT_EQ(diagnoseCli({"--params", kParams, "--runs", "a.csv", "--bag", "b.bag", "--report", "r"}).code, 2);
+  const CliResult bag = diagnoseCli({"--params", kParams, "--bag", "b.bag", "--report", "r"});
+  EXPECT_EQ(bag.code, 2);
+  EXPECT_NE(bag.err.find("rosbag"), std::string::npos) << bag.err;
+  const CliResult cand = diagnoseCli({"--params", kParams, "--runs", "a.csv", "--report", "r", "--candidates", "magic"});
+  EXPECT_EQ(cand.code, 2);
+  EXPECT_NE(cand.err.find("'magic'"), std::string::npos) << cand.err;
+  EXPECT_EQ(diagnoseCli({"--params", kParams, "--runs", "a.csv", "--report", "r", "--max-terms", "x"}).code, 2);
+  EXPECT_EQ(diagnoseCli({"--params", kParams, "--runs", "a.csv", "--report", "r", "--alpha-select", "2"}).code, 2);
+  EXPECT_EQ(diagnoseCli({"--params", kParams, "--runs", "a.csv", "--report", "r", "stray"}).code, 2);
+}
+
+TEST(DiagnosisInputs, CliDataErrors) {
+  const CliResult missing = diagnoseCli({"--params", kParams, "--runs", "/nonexistent/runs.csv", "--report", "r"});
+  EXPECT_EQ(missing.code, 1);
+  EXPECT_NE(missing.err.find("/nonexistent/runs.csv"), std::string::npos) << missing.err;
+  const std::string bad = tempFile("bad.csv", "# tread_wear run table v1\nspeed_mps,slip_angle_rad,load_n\n2,abc,75\n");
+  const CliResult nonnum = diagnoseCli({"--params", kParams, "--runs", bad, "--report", "r"});
+  EXPECT_EQ(nonnum.code, 1);
+  EXPECT_NE(nonnum.err.find("slip_angle_rad"), std::string::npos) << nonnum.err;
+  const std::string few = tempFile("few.csv",
+                                   "# tread_wear run table v1\nspeed_mps,slip_angle_rad,load_n,side_force_n\n"
+                                   "2,-0.17,75,50\n2,-0.17,75,51\n");
+  const CliResult too_few = diagnoseCli({"--params", kParams, "--runs", few, "--report", "r"});
+  EXPECT_EQ(too_few.code, 1);
+  EXPECT_NE(too_few.err.find("at least 4"), std::string::npos) << too_few.err;
+  const CliResult bad_bag = diagnoseCli({"--params", kParams, "--bag", "x.bag", "--report", "r"},
+                                        [](const std::string& p) -> RunTable { throw std::runtime_error(p + ": not a bag"); });
+  EXPECT_EQ(bad_bag.code, 1);
+  EXPECT_NE(bad_bag.err.find("x.bag: not a bag"), std::string::npos) << bad_bag.err;
+}
+
+TEST(DiagnosisInputs, ConcealErrors) {
+  EXPECT_EQ(concealCli({"--params", kParams, "--effect", "magic", "--runs", "a.csv", "--answer", "a.json"}).code, 2);
+  EXPECT_EQ(concealCli({"--params", kParams, "--effect", "none", "--runs", "a.csv"}).code, 2);
+  EXPECT_EQ(concealCli({"--params", kParams, "--effect", "none", "--runs", "a.csv", "--answer", "a.json",
+                        "--design", "huge"}).code, 2);
+  EXPECT_EQ(concealCli({"--params", "/nonexistent.yaml", "--effect", "none", "--runs", "a.csv", "--answer", "a.json"}).code, 1);
+  const CliResult list = concealCli({"--list"});
+  EXPECT_EQ(list.code, 0);
+  for (const TermInfo& t : termLibrary()) EXPECT_NE(list.out.find(t.name), std::string::npos) << t.name;
+}

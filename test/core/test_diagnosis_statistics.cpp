@@ -1,0 +1,99 @@
+// Statistics of the mismatch diagnosis against closed-form values and constructed data.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "tread_wear/core/diagnosis/statistics.h"
+
+using namespace tread_wear::diagnosis;
+
+TEST(DiagnosisStatistics, RanksAverageTies) {
+  const std::vector<double> r = averageRanks({10.0, 20.0, 20.0, 5.0});
+  EXPECT_DOUBLE_EQ(r[0], 2.0);
+  EXPECT_DOUBLE_EQ(r[1], 3.5);
+  EXPECT_DOUBLE_EQ(r[2], 3.5);
+  EXPECT_DOUBLE_EQ(r[3], 1.0);
+}
+
+TEST(DiagnosisStatistics, SpearmanOfMonotoneMapIsOne) {
+  std::vector<double> x, y;
+  for (int i = 0; i < 12; ++i) {
+    x.push_back(i);
+    y.push_back(std::exp(0.3 * i));  // monotone, far from linear: Spearman 1, Pearson < 1
+  }
+  EXPECT_DOUBLE_EQ(spearman(x, y), 1.0);
+  EXPECT_LT(pearson(x, y), 0.95);
+  EXPECT_DOUBLE_EQ(olsSlope(x, std::vector<double>{0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22}), 2.0);
+}
+
+TEST(DiagnosisStatistics, TrendTestFindsATrend) {
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> n(0.0, 1.0);
+  std::vector<double> x, trend;
+  for (int i = 0; i < 30; ++i) {
+    x.push_back(i);
+    trend.push_back(0.2 * i + n(rng));
+  }
+  const TrendTest t = trendTest(x, trend, 999, 1);
+  // A correlation near 0.9 with 30 points: no permutation reaches it, so p is the smallest reachable 1/1000.
+  EXPECT_DOUBLE_EQ(t.p_value, 1.0 / 1000.0);
+  EXPECT_NEAR(t.effect, t.slope * 29.0, 1e-12);
+  EXPECT_THROW(trendTest({1, 2}, {1, 2}, 99, 1), std::invalid_argument);
+}
+
+TEST(DiagnosisStatistics, TrendTestHasItsNominalSizeUnderTheNull) {
+  // Independent noise: a valid test rejects at alpha = 0.05 in 5% of the draws. 400 draws: expected 20
+  // rejections, binomial sd 4.4; the window is +-3 sd.
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> n(0.0, 1.0);
+  std::vector<double> x(30), y(30);
+  for (int i = 0; i < 30; ++i) x[i] = i;
+  int rejections = 0;
+  for (int draw = 0; draw < 400; ++draw) {
+    for (double& v : y) v = n(rng);
+    if (trendTest(x, y, 199, 100 + draw).p_value <= 0.05) ++rejections;
+  }
+  EXPECT_GE(rejections, 7);
+  EXPECT_LE(rejections, 33);
+}
+
+TEST(DiagnosisStatistics, GroupTestEffectSize) {
+  // Two groups, means 0 and 1, no spread inside: all variance is between groups.
+  const std::vector<int> labels = {0, 0, 0, 0, 1, 1, 1, 1};
+  const std::vector<double> y = {0, 0, 0, 0, 1, 1, 1, 1};
+  const GroupTest g = groupTest(labels, y, 999, 2);
+  EXPECT_DOUBLE_EQ(g.eta_squared, 1.0);
+  EXPECT_DOUBLE_EQ(g.max_difference, 1.0);
+  // Exactly 2 of the C(8,4) = 70 labellings reach the observed split: p ~ 2/70 (permutation estimate).
+  EXPECT_NEAR(g.p_value, 2.0 / 70.0, 0.015);
+}
+
+TEST(DiagnosisStatistics, HolmAdjustment) {
+  // Textbook example: p = (0.01, 0.04, 0.03, 0.005) -> sorted 0.005*4, 0.01*3, 0.03*2, 0.04*1 with monotonicity.
+  const std::vector<double> adj = holmAdjust({0.01, 0.04, 0.03, 0.005});
+  EXPECT_DOUBLE_EQ(adj[3], 0.02);
+  EXPECT_DOUBLE_EQ(adj[0], 0.03);
+  EXPECT_DOUBLE_EQ(adj[2], 0.06);
+  EXPECT_DOUBLE_EQ(adj[1], 0.06);
+}
+
+TEST(DiagnosisStatistics, IncompleteBetaAndFTail) {
+  EXPECT_NEAR(regularizedIncompleteBeta(1.0, 1.0, 0.3), 0.3, 1e-12);         // uniform CDF
+  EXPECT_NEAR(regularizedIncompleteBeta(2.5, 2.5, 0.5), 0.5, 1e-12);         // symmetry
+  EXPECT_NEAR(regularizedIncompleteBeta(2.0, 1.0, 0.6), 0.36, 1e-12);        // I_x(2,1) = x^2
+  // Tabulated critical values: F(0.95; 1, 10) = 4.9646, F(0.99; 3, 20) = 4.9382.
+  EXPECT_NEAR(fDistributionUpperTail(4.9646, 1, 10), 0.05, 1e-4);
+  EXPECT_NEAR(fDistributionUpperTail(4.9382, 3, 20), 0.01, 1e-4);
+  EXPECT_DOUBLE_EQ(fDistributionUpperTail(0.0, 2, 5), 1.0);
+  // Nested test: no improvement gives p = 1.
+  EXPECT_DOUBLE_EQ(nestedFTestPValue(10.0, 10.0, 1, 20), 1.0);
+  EXPECT_NEAR(nestedFTestPValue(10.0 + 4.9646, 10.0, 1, 10), 0.05, 1e-4);
+}
+
+TEST(DiagnosisStatistics, InformationCriteria) {
+  // n ln(rss/n) + 2k + 2k(k+1)/(n-k-1) with rss = n: 2k + correction.
+  EXPECT_NEAR(aicc(20.0, 20, 2), 4.0 + 12.0 / 17.0, 1e-12);
+  EXPECT_NEAR(bic(20.0, 20, 2), 2.0 * std::log(20.0), 1e-12);
+  EXPECT_TRUE(std::isinf(aicc(1.0, 3, 2)));
+}
