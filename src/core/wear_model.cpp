@@ -39,7 +39,7 @@ BrushOptions presetOptions(Preset preset, TurnSlipOrientation orientation) {
     case Preset::kStandard:
       o.grid = {80, 8, 0.9, LateralRule::kGaussLegendre};
       o.turn_slip_iterations = 1;
-      o.root_tolerance = 1e-4;
+      o.root_tolerance = 1e-3;
       break;
     case Preset::kReference:
       o.grid = {1600, 64, 0.8, LateralRule::kSineMidpoint};
