@@ -182,7 +182,7 @@ struct SlideProblem {
 
 /// F and dF/dz at z; also returns s and mu p there.
 inline double slideResidual(const SavkoorLog& sk, const SlideProblem& pr, double z, double* dfdz, double* s_out,
-                            double* mup_out) {
+                            double* mup_out, double* s_dmup_out) {
   const double s = std::exp(z);
   const double l = z - sk.ln_vm;
   const double e = sk.dmu * std::exp(-sk.c * l * l);
@@ -193,6 +193,7 @@ inline double slideResidual(const SavkoorLog& sk, const SlideProblem& pr, double
   *dfdz = -2.0 * (rx * (pr.dx * s + s_dmup) * igx + ry * (pr.dy * s + s_dmup) * igy);
   *s_out = s;
   *mup_out = mup;
+  *s_dmup_out = s_dmup;
   return rx + ry - 1.0;
 }
 
@@ -204,22 +205,29 @@ SlideRoot solveSlide(const SavkoorLog& sk, const SlideProblem& pr, double z_floo
     const double mup = pr.sat_p * f_floor_mu;
     if ((pr.t2x + pr.t2y) <= mup * mup) return root;
   }
-  const double r = std::sqrt(pr.t2x + pr.t2y);
-  double z_lo = z_floor, z_hi = std::log(r / std::min(pr.dx, pr.dy));
+  // Bracket [z_lo, z_hi]; the a-priori upper end ln(|t| / min D) is only computed if bisection needs it.
+  double z_lo = z_floor, z_hi = std::numeric_limits<double>::infinity();
+  auto upperEnd = [&]() {
+    if (std::isinf(z_hi)) z_hi = std::log(std::sqrt(pr.t2x + pr.t2y) / std::min(pr.dx, pr.dy));
+    return z_hi;
+  };
   double z = z_guess;
-  // Closed-form creep root mu(s) p = r with D s neglected, on the rising branch (s < v_m): the better
-  // start there; beyond the peak of mu the warm start is.
-  const double e = (r / pr.sat_p - sk.mu_0) / sk.dmu;
-  if (e > 0.0 && e < 1.0) {
-    z = sk.ln_vm - std::sqrt(-std::log(e) / sk.c);
-  } else if (!have_guess) {  // viscous estimate: D s carries what friction at its floor mu_0 p does not
-    const double s_visc = std::sqrt(pr.t2x / (pr.dx * pr.dx) + pr.t2y / (pr.dy * pr.dy));
-    z = std::log(std::max(s_visc * (1.0 - pr.sat_p * sk.mu_0 / r), 1e-300));
+  if (!have_guess || z_guess < sk.ln_vm) {
+    const double r = std::sqrt(pr.t2x + pr.t2y);
+    // Closed-form creep root mu(s) p = r with D s neglected, on the rising branch (s < v_m): there it
+    // is a better start than the warm start; beyond the peak of mu the warm start is.
+    const double e = (r / pr.sat_p - sk.mu_0) / sk.dmu;
+    if (e > 0.0 && e < 1.0) {
+      z = sk.ln_vm - std::sqrt(-std::log(e) / sk.c);
+    } else if (!have_guess) {  // viscous estimate: D s carries what friction at its floor mu_0 p does not
+      const double s_visc = std::sqrt(pr.t2x / (pr.dx * pr.dx) + pr.t2y / (pr.dy * pr.dy));
+      z = std::log(std::max(s_visc * (1.0 - pr.sat_p * sk.mu_0 / r), 1e-300));
+    }
   }
-  if (!(z > z_lo && z < z_hi)) z = 0.5 * (z_lo + z_hi);
+  if (!(z > z_lo && z < z_hi)) z = 0.5 * (z_lo + upperEnd());
   for (int it = 1; it <= max_iterations; ++it) {
-    double dfdz, s, mup;
-    const double f = slideResidual(sk, pr, z, &dfdz, &s, &mup);
+    double dfdz, s, mup, s_dmup;
+    const double f = slideResidual(sk, pr, z, &dfdz, &s, &mup, &s_dmup);
     root.iterations = it;
     if (f > 0.0) z_lo = z; else z_hi = z;
     // Far from the root F + 1 behaves like a power of s (like s^-2 where D s dominates), so Newton
@@ -227,15 +235,13 @@ SlideRoot solveSlide(const SavkoorLog& sk, const SlideProblem& pr, double z_floo
     const double step = !(dfdz < 0.0) ? 0.0 : (std::fabs(f) < 0.25 ? -f : -(1.0 + f) * std::log1p(f)) / dfdz;
     if (dfdz < 0.0 && std::fabs(step) < tol) {
       // Quadratic convergence: the remaining error is O(step^2); correct s and mu p to first order.
-      const double l = z - sk.ln_vm;
-      const double s_dmup = pr.sat_p * sk.dmu * std::exp(-sk.c * l * l) * (-2.0 * sk.c * l);
       root.z = z + step;
       root.s = s * (1.0 + step);
       root.mup = mup + s_dmup * step;
       return root;
     }
     double z_new = z + step;
-    if (!(dfdz < 0.0) || !(z_new > z_lo && z_new < z_hi)) z_new = 0.5 * (z_lo + z_hi);
+    if (!(dfdz < 0.0) || !(z_new > z_lo && z_new < z_hi)) z_new = 0.5 * (z_lo + upperEnd());
     if (z_hi - z_lo < tol || it == max_iterations) {
       root.z = z_new;
       root.s = std::exp(z_new);
