@@ -41,8 +41,8 @@ bool BrushOptions::validate(std::string* error) const {
     if (error) *error = "max_root_iterations = " + std::to_string(max_root_iterations) + ": must be >= 1";
     return false;
   }
-  if (!(root_tolerance > 0.0 && root_tolerance <= 1e-3)) {
-    if (error) *error = "root_tolerance = " + std::to_string(root_tolerance) + ": must be in (0, 1e-3]";
+  if (!(root_tolerance > 0.0 && root_tolerance <= 0.1)) {
+    if (error) *error = "root_tolerance = " + std::to_string(root_tolerance) + ": must be in (0, 0.1]";
     return false;
   }
   return true;

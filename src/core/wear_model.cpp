@@ -34,12 +34,12 @@ BrushOptions presetOptions(Preset preset, TurnSlipOrientation orientation) {
     case Preset::kFast:
       o.grid = {40, 6, 0.9, LateralRule::kGaussLegendre};
       o.turn_slip_iterations = 1;
-      o.root_tolerance = 1e-3;
+      o.root_tolerance = 3e-2;
       break;
     case Preset::kStandard:
       o.grid = {80, 8, 0.9, LateralRule::kGaussLegendre};
       o.turn_slip_iterations = 1;
-      o.root_tolerance = 1e-3;
+      o.root_tolerance = 1e-2;
       break;
     case Preset::kReference:
       o.grid = {1600, 64, 0.8, LateralRule::kSineMidpoint};

@@ -80,7 +80,7 @@ struct BrushOptions {
   int turn_slip_iterations = 3;         ///< fixed-point passes for the Omega delta coupling, >= 1
   double creep_floor_mps = 1e-14;       ///< |v_s| below this counts as v_s -> 0+ (creep at the static limit)
   int max_root_iterations = 40;         ///< bound on Newton/bisection steps per slide root, >= 1
-  double root_tolerance = 1e-7;         ///< stop when the Newton step in ln|v_s| is below this [-], (0, 1e-3];
+  double root_tolerance = 1e-7;         ///< stop when the Newton step in ln|v_s| is below this [-], (0, 0.1];
                                         ///< the last step is applied, so the error is O(tolerance^2)
   bool use_symmetry = true;             ///< march half the strips when straight (Omega = 0) and y_e = 0
 
