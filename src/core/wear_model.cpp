@@ -98,9 +98,21 @@ Preset WearModel::choosePreset() const {
   return static_cast<Preset>(p);
 }
 
+bool WearModel::fitsFields(Preset preset, const PatchFields& fields) const {
+  const BrushWearModel& s = solver(preset);
+  return fields.n_x_nodes == s.nodesX() && fields.n_strips == s.strips() &&
+         fields.pressure_pa.size() == static_cast<size_t>(s.nodesX()) * static_cast<size_t>(s.strips());
+}
+
 EvalStatus WearModel::evaluate(const OperatingPoint& op, WearResult* result, PatchFields* fields) const {
   if (!op.validate(nullptr)) return EvalStatus::kInvalidInput;
-  const Preset preset = choosePreset();
+  Preset preset = choosePreset();
+  if (fields != nullptr && !fitsFields(preset, *fields)) {
+    // Local fields are laid out on one preset's grid: use that preset for this call, whatever the budget.
+    for (Preset p : {Preset::kFast, Preset::kStandard, Preset::kReference})
+      if (fitsFields(p, *fields)) preset = p;
+    if (!fitsFields(preset, *fields)) fields = nullptr;  // sized for no preset: left untouched
+  }
   const BrushWearModel& solver = *solvers_[static_cast<int>(preset)];
   OperatingPoint eval_op = op;
   EvalStatus status = EvalStatus::kOk;

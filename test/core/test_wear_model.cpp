@@ -111,6 +111,24 @@ TEST(WearModelBudget, ReportsDegradingAndProbesFinerPresetPeriodically) {
   EXPECT_TRUE(std::isfinite(r.fy_n));
 }
 
+TEST(WearModelBudget, FieldsPinThePresetOfTheirGrid) {
+  WearModelOptions o;
+  o.time_budget_s = 1e-12;  // would degrade to fast
+  const WearModel model(TireParams(), o);
+  model.recordTiming(Preset::kStandard, 1.0);
+  PatchFields fields;
+  const BrushWearModel& standard = model.solver(Preset::kStandard);
+  fields.resize(standard.nodesX(), standard.strips());
+  WearResult r;
+  model.evaluate(rigPoint(2.0), &r, &fields);
+  EXPECT_EQ(model.activePreset(), Preset::kStandard);  // the grid of the fields, not the budget's choice
+  EXPECT_GT(fields.pressure_pa[fields.index(standard.nodesX() / 2, standard.strips() / 2)], 0.0);
+  PatchFields odd;
+  odd.resize(3, 3);  // no preset's grid: left untouched
+  model.evaluate(rigPoint(2.0), &r, &odd);
+  EXPECT_EQ(odd.pressure_pa[4], 0.0);
+}
+
 TEST(WearModelBudget, NoBudgetUsesWantedPresetAndNeverDegrades) {
   const WearModel model(TireParams(), fastOptions());
   WearResult r;

@@ -66,8 +66,9 @@ class WearModel {
   WearModel(const TireParams& params, const WearModelOptions& options);
 
   /// Evaluates at the wanted preset, or the finest that fits the time budget; allocates nothing.
-  /// PatchFields must be sized for the preset used (activePreset() after the call); pass nullptr
-  /// under a budget unless sized for every preset's grid.
+  /// Local fields, if requested, must be sized for one preset's grid (fields->resize(solver(p).nodesX(),
+  /// solver(p).strips())): that call then uses preset p whatever the budget; fields sized for no preset
+  /// are left untouched.
   EvalStatus evaluate(const OperatingPoint& op, WearResult* result, PatchFields* fields = nullptr) const;
 
   /// Sets the wanted (finest) preset.
@@ -94,6 +95,8 @@ class WearModel {
   const WearModelOptions& options() const { return options_; }
 
  private:
+  bool fitsFields(Preset preset, const PatchFields& fields) const;
+
   TireParams params_;
   WearModelOptions options_;
   Preset wanted_;
