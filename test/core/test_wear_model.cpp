@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <limits>
+#include <random>
 
 #include "tread_wear/core/units.h"
 #include "tread_wear/core/wear_model.h"
@@ -136,6 +137,40 @@ TEST(WearModelBudget, NoBudgetUsesWantedPresetAndNeverDegrades) {
   EXPECT_EQ(model.activePreset(), Preset::kFast);
   EXPECT_EQ(model.degradedCount(), 0);
   EXPECT_TRUE(std::isnan(model.timing(Preset::kFast)));  // not timed without a budget
+}
+
+// Robustness over the whole input domain (fixed seed): speeds 1e-3..100 m/s, |alpha| up to 89 deg,
+// kappa from -0.999 to 2, loads 0.01..3x nominal, |curvature| up to 20 1/m. Every result is finite, the
+// root iteration count stays inside its bound, and the friction bound holds: every stress (stick, creep
+// or slide) is at most sat(p) mu_m p, so |(Fx, Fy)| <= max sat * mu_m * Fz.
+TEST(WearModelInput, RandomPointsGiveFiniteFrictionBoundedResults) {
+  std::mt19937 rng(12345);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const TireParams params;
+  const FrictionParams& f = params.friction;
+  const double sat_max = std::pow(f.p_0_pa / f.p_ref_pa, -f.q);
+  for (Preset preset : {Preset::kFast, Preset::kStandard}) {
+    WearModelOptions o;
+    o.preset = preset;
+    const WearModel model(params, o);
+    for (int k = 0; k < 1000; ++k) {
+      OperatingPoint op;
+      op.speed_mps = std::pow(10.0, -3.0 + 5.0 * u(rng));
+      op.slip_angle_rad = (u(rng) - 0.5) * 178.0 * units::kDegree;
+      op.slip_ratio = -0.999 + 2.999 * u(rng);
+      op.load_n = 100.0 * (0.01 + 3.0 * u(rng));
+      op.path_curvature_per_m = u(rng) < 0.5 ? 0.0 : (u(rng) - 0.5) * 40.0;
+      WearResult r;
+      ASSERT_NE(model.evaluate(op, &r), EvalStatus::kInvalidInput);
+      ASSERT_TRUE(std::isfinite(r.fx_n) && std::isfinite(r.fy_n) && std::isfinite(r.mz_nm)) << k;
+      EXPECT_GT(r.wear_rate_kg_per_m, 0.0) << k;
+      EXPECT_GE(r.wear_rate_kg_per_s, 0.0) << k;
+      EXPECT_LE(std::hypot(r.fx_n, r.fy_n), sat_max * f.mu_m * op.load_n * (1.0 + 1e-9)) << k;
+      EXPECT_GE(r.stick_fraction, 0.0);
+      EXPECT_LE(r.stick_fraction, 1.0 + 1e-12);
+      EXPECT_LT(r.max_root_iterations, model.solver(preset).options().max_root_iterations) << k;
+    }
+  }
 }
 
 TEST(WearModelInput, InvalidPointsAreRejectedAndLeaveTheResultUntouched) {
