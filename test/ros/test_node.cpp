@@ -100,6 +100,11 @@ class Harness {
     std::lock_guard<std::mutex> l(mutex_);
     return count_;
   }
+  /// Messages received with this status (a status may last a single cycle, between two spins).
+  int seen(int status) {
+    std::lock_guard<std::mutex> l(mutex_);
+    return status_count_[status];
+  }
   /// Value of a key in the last diagnostic status named "...wheel <name>", or "".
   std::string diag(const std::string& key, int* level = nullptr) {
     std::lock_guard<std::mutex> l(mutex_);
@@ -116,6 +121,7 @@ class Harness {
     std::lock_guard<std::mutex> l(mutex_);
     last_ = *m;
     ++count_;
+    ++status_count_[m->status];
   }
   void onDiag(const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
     std::lock_guard<std::mutex> l(mutex_);
@@ -136,6 +142,7 @@ class Harness {
   std::mutex mutex_;
   tread_wear::WheelWear last_;
   int count_ = 0;
+  std::map<int, int> status_count_;
   std::map<std::string, std::string> diag_;
   int diag_level_ = -1;
 };
@@ -301,7 +308,7 @@ TEST(TimeJump, BackwardJumpKeepsTheAccumulatedLoss) {
   const double distance_before = h.last().distance_m;
   // A looping bag: the clock restarts at 10 s.
   t = 10.0;
-  ASSERT_TRUE(run([&] { return h.last().status == tread_wear::WheelWear::STATUS_TIME_JUMP; }, 5.0));
+  ASSERT_TRUE(run([&] { return h.seen(tread_wear::WheelWear::STATUS_TIME_JUMP) > 0; }, 5.0));
   EXPECT_GE(h.last().accumulated_loss_kg, before);
   // Nothing absurd was integrated: the loss may only grow at the model's rate (W_r per metre at <= 0.5 m/s).
   EXPECT_LT(h.last().distance_m - distance_before, 0.5 * 1.0);
