@@ -6,6 +6,7 @@
 
 #include "tread_wear/core/metrics.h"
 #include "tread_wear/core/run_comparison.h"
+#include "tread_wear/core/validation.h"
 
 namespace tread_wear {
 namespace {
@@ -177,13 +178,13 @@ bool CalibrationOptions::validate(std::string* error) const {
       if (fit[k] == fit[i]) return fail("fit: parameter '" + fit[i] + "' listed twice");
   }
   if (!(side_force_weight >= 0.0) || !std::isfinite(side_force_weight))
-    return fail("side_force_weight = " + std::to_string(side_force_weight) + ": must be finite and >= 0");
+    return failValidation(error, "side_force_weight", side_force_weight, "finite and >= 0");
   if (!(wear_weight >= 0.0) || !std::isfinite(wear_weight))
-    return fail("wear_weight = " + std::to_string(wear_weight) + ": must be finite and >= 0");
+    return failValidation(error, "wear_weight", wear_weight, "finite and >= 0");
   if (!(prior_weight >= 0.0) || !std::isfinite(prior_weight))
-    return fail("prior_weight = " + std::to_string(prior_weight) + ": must be finite and >= 0");
+    return failValidation(error, "prior_weight", prior_weight, "finite and >= 0");
   if (turn_slip_iterations < 1)
-    return fail("turn_slip_iterations = " + std::to_string(turn_slip_iterations) + ": must be >= 1");
+    return failValidation(error, "turn_slip_iterations", turn_slip_iterations, ">= 1");
   std::string sub;
   if (!grid.validate(&sub)) return fail("grid: " + sub);
   if (!binning.validate(&sub)) return fail("binning: " + sub);

@@ -8,6 +8,8 @@
 
 #include <ceres/ceres.h>
 
+#include "tread_wear/core/validation.h"
+
 namespace tread_wear {
 namespace {
 
@@ -208,9 +210,9 @@ bool LeastSquaresProblem::validate(std::string* error) const {
     return false;
   };
   if (parameters.empty()) return fail("parameters: empty; at least one parameter must be free");
-  if (num_records < 1) return fail("num_records = " + std::to_string(num_records) + ": must be >= 1");
+  if (num_records < 1) return failValidation(error, "num_records", num_records, ">= 1");
   if (residuals_per_record < 1)
-    return fail("residuals_per_record = " + std::to_string(residuals_per_record) + ": must be >= 1");
+    return failValidation(error, "residuals_per_record", residuals_per_record, ">= 1");
   if (!groups.empty() && static_cast<int>(groups.size()) != num_records)
     return fail("groups: size " + std::to_string(groups.size()) + " != num_records " + std::to_string(num_records));
   if (!residuals) return fail("residuals: no residual function");
@@ -244,10 +246,10 @@ bool LeastSquaresOptions::validate(std::string* error) const {
     if (error) *error = msg;
     return false;
   };
-  if (max_iterations < 1) return fail("max_iterations = " + std::to_string(max_iterations) + ": must be >= 1");
+  if (max_iterations < 1) return failValidation(error, "max_iterations", max_iterations, ">= 1");
   if (!(function_tolerance >= 0.0) || !(gradient_tolerance >= 0.0) || !(parameter_tolerance >= 0.0))
     return fail("tolerances must be >= 0");
-  if (!(jacobian_step > 0.0)) return fail("jacobian_step = " + std::to_string(jacobian_step) + ": must be > 0");
+  if (!(jacobian_step > 0.0)) return failValidation(error, "jacobian_step", jacobian_step, "> 0");
   if (!(bound_tolerance >= 0.0)) return fail("bound_tolerance must be >= 0");
   return true;
 }

@@ -4,6 +4,8 @@
 #include <map>
 #include <stdexcept>
 
+#include "tread_wear/core/validation.h"
+
 namespace tread_wear {
 namespace {
 
@@ -23,14 +25,10 @@ void normalise(std::vector<LoadBin>* bins) {
 }  // namespace
 
 bool LoadBinningOptions::validate(std::string* error) const {
-  if (!(std::isfinite(bin_width_n) && bin_width_n > 0.0)) {
-    if (error) *error = "bin_width_n = " + std::to_string(bin_width_n) + ": must be > 0";
-    return false;
-  }
-  if (!(std::isfinite(span_sigmas) && span_sigmas > 0.0)) {
-    if (error) *error = "span_sigmas = " + std::to_string(span_sigmas) + ": must be > 0";
-    return false;
-  }
+  if (!(std::isfinite(bin_width_n) && bin_width_n > 0.0))
+    return failValidation(error, "bin_width_n", bin_width_n, "finite and > 0");
+  if (!(std::isfinite(span_sigmas) && span_sigmas > 0.0))
+    return failValidation(error, "span_sigmas", span_sigmas, "finite and > 0");
   return true;
 }
 

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "tread_wear/core/metrics.h"
+#include "tread_wear/core/validation.h"
 
 namespace tread_wear {
 namespace {
@@ -51,10 +52,10 @@ bool ReferenceWearLaw::validate(std::string* error) const {
     return false;
   };
   if (!std::isfinite(w1) || !std::isfinite(w2)) return fail("w1, w2 must be finite");
-  if (!(w3_kg_per_s >= 0.0)) return fail("w3_kg_per_s = " + std::to_string(w3_kg_per_s) + ": must be >= 0");
-  if (!(w4_kg_per_s >= 0.0)) return fail("w4_kg_per_s = " + std::to_string(w4_kg_per_s) + ": must be >= 0");
+  if (!(w3_kg_per_s >= 0.0)) return failValidation(error, "w3_kg_per_s", w3_kg_per_s, ">= 0");
+  if (!(w4_kg_per_s >= 0.0)) return failValidation(error, "w4_kg_per_s", w4_kg_per_s, ">= 0");
   if (temperature_enabled && !(std::isfinite(t0_c) && std::isfinite(sigma_t_c) && sigma_t_c != 0.0))
-    return fail("sigma_t_c = " + std::to_string(sigma_t_c) + ": must be finite and != 0 (T0 finite)");
+    return failValidation(error, "sigma_t_c", sigma_t_c, "finite and != 0 (T0 finite)");
   return true;
 }
 

@@ -3,23 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
-#include <sstream>
 #include <stdexcept>
 
 #include "tread_wear/core/units.h"
+#include "tread_wear/core/validation.h"
 
 namespace tread_wear {
 
 namespace {
-
-bool fail(std::string* error, const char* field, double value, const char* constraint) {
-  if (error != nullptr) {
-    std::ostringstream os;
-    os << field << " = " << value << ": must be " << constraint;
-    *error = os.str();
-  }
-  return false;
-}
 
 /// Portable uniform draws: mt19937 is specified bit for bit; the standard distributions are not.
 class Draw {
@@ -69,19 +60,19 @@ const char* routeEventKindName(RouteEventKind kind) {
 
 bool RouteParams::validate(std::string* error) const {
   if (!(lateral_accel_limit_mps2 > 0.0) || !std::isfinite(lateral_accel_limit_mps2))
-    return fail(error, "lateral_accel_limit_mps2", lateral_accel_limit_mps2, "finite and > 0");
+    return failValidation(error, "lateral_accel_limit_mps2", lateral_accel_limit_mps2, "finite and > 0");
   if (!(urban_max_speed_mps > 0.0) || !std::isfinite(urban_max_speed_mps))
-    return fail(error, "urban_max_speed_mps", urban_max_speed_mps, "finite and > 0");
+    return failValidation(error, "urban_max_speed_mps", urban_max_speed_mps, "finite and > 0");
   if (!(rural_max_speed_mps > urban_max_speed_mps) || !std::isfinite(rural_max_speed_mps))
-    return fail(error, "rural_max_speed_mps", rural_max_speed_mps, "finite and > urban_max_speed_mps");
+    return failValidation(error, "rural_max_speed_mps", rural_max_speed_mps, "finite and > urban_max_speed_mps");
   if (!(junction_radius_m > 0.0) || !std::isfinite(junction_radius_m))
-    return fail(error, "junction_radius_m", junction_radius_m, "finite and > 0");
+    return failValidation(error, "junction_radius_m", junction_radius_m, "finite and > 0");
   if (!(roundabout_radius_m > 0.0) || !std::isfinite(roundabout_radius_m))
-    return fail(error, "roundabout_radius_m", roundabout_radius_m, "finite and > 0");
+    return failValidation(error, "roundabout_radius_m", roundabout_radius_m, "finite and > 0");
   if (!(roundabout_deflection_radius_m > 0.0) || !std::isfinite(roundabout_deflection_radius_m))
-    return fail(error, "roundabout_deflection_radius_m", roundabout_deflection_radius_m, "finite and > 0");
+    return failValidation(error, "roundabout_deflection_radius_m", roundabout_deflection_radius_m, "finite and > 0");
   if (!(roundabout_share >= 0.0 && roundabout_share <= 1.0))
-    return fail(error, "roundabout_share", roundabout_share, "in [0, 1]");
+    return failValidation(error, "roundabout_share", roundabout_share, "in [0, 1]");
   return true;
 }
 

@@ -6,21 +6,13 @@
 #include <cmath>
 #include <fstream>
 #include <map>
-#include <sstream>
 #include <stdexcept>
+
+#include "tread_wear/core/validation.h"
 
 namespace tread_wear {
 
 namespace {
-
-bool fail(std::string* error, const char* field, double value, const char* constraint) {
-  if (error != nullptr) {
-    std::ostringstream os;
-    os << field << " = " << value << ": must be " << constraint;
-    *error = os.str();
-  }
-  return false;
-}
 
 bool positive(double v) { return std::isfinite(v) && v > 0.0; }
 bool nonNegative(double v) { return std::isfinite(v) && v >= 0.0; }
@@ -58,32 +50,32 @@ const char* wheelName(int wheel) {
 }
 
 bool VehicleParams::validate(std::string* error) const {
-  if (!positive(mass_kg)) return fail(error, "mass_kg", mass_kg, "finite and > 0");
-  if (!positive(wheelbase_m)) return fail(error, "wheelbase_m", wheelbase_m, "finite and > 0");
+  if (!positive(mass_kg)) return failValidation(error, "mass_kg", mass_kg, "finite and > 0");
+  if (!positive(wheelbase_m)) return failValidation(error, "wheelbase_m", wheelbase_m, "finite and > 0");
   if (!positive(cog_to_front_axle_m) || !(cog_to_front_axle_m < wheelbase_m))
-    return fail(error, "cog_to_front_axle_m", cog_to_front_axle_m, "in (0, wheelbase_m)");
-  if (!nonNegative(cog_height_m)) return fail(error, "cog_height_m", cog_height_m, "finite and >= 0");
-  if (!positive(track_front_m)) return fail(error, "track_front_m", track_front_m, "finite and > 0");
-  if (!positive(track_rear_m)) return fail(error, "track_rear_m", track_rear_m, "finite and > 0");
+    return failValidation(error, "cog_to_front_axle_m", cog_to_front_axle_m, "in (0, wheelbase_m)");
+  if (!nonNegative(cog_height_m)) return failValidation(error, "cog_height_m", cog_height_m, "finite and >= 0");
+  if (!positive(track_front_m)) return failValidation(error, "track_front_m", track_front_m, "finite and > 0");
+  if (!positive(track_rear_m)) return failValidation(error, "track_rear_m", track_rear_m, "finite and > 0");
   if (!unitInterval(front_roll_stiffness_share))
-    return fail(error, "front_roll_stiffness_share", front_roll_stiffness_share, "in [0, 1]");
+    return failValidation(error, "front_roll_stiffness_share", front_roll_stiffness_share, "in [0, 1]");
   if (!unitInterval(all_wheel_front_drive_share))
-    return fail(error, "all_wheel_front_drive_share", all_wheel_front_drive_share, "in [0, 1]");
+    return failValidation(error, "all_wheel_front_drive_share", all_wheel_front_drive_share, "in [0, 1]");
   if (!unitInterval(brake_balance_front))
-    return fail(error, "brake_balance_front", brake_balance_front, "in [0, 1]");
-  if (!nonNegative(drag_coefficient)) return fail(error, "drag_coefficient", drag_coefficient, "finite and >= 0");
-  if (!nonNegative(frontal_area_m2)) return fail(error, "frontal_area_m2", frontal_area_m2, "finite and >= 0");
+    return failValidation(error, "brake_balance_front", brake_balance_front, "in [0, 1]");
+  if (!nonNegative(drag_coefficient)) return failValidation(error, "drag_coefficient", drag_coefficient, "finite and >= 0");
+  if (!nonNegative(frontal_area_m2)) return failValidation(error, "frontal_area_m2", frontal_area_m2, "finite and >= 0");
   if (!nonNegative(air_density_kg_per_m3))
-    return fail(error, "air_density_kg_per_m3", air_density_kg_per_m3, "finite and >= 0");
+    return failValidation(error, "air_density_kg_per_m3", air_density_kg_per_m3, "finite and >= 0");
   if (!nonNegative(rolling_resistance_coefficient))
-    return fail(error, "rolling_resistance_coefficient", rolling_resistance_coefficient, "finite and >= 0");
+    return failValidation(error, "rolling_resistance_coefficient", rolling_resistance_coefficient, "finite and >= 0");
   if (!positive(cornering_stiffness_front_per_rad))
-    return fail(error, "cornering_stiffness_front_per_rad", cornering_stiffness_front_per_rad, "finite and > 0");
+    return failValidation(error, "cornering_stiffness_front_per_rad", cornering_stiffness_front_per_rad, "finite and > 0");
   if (!positive(cornering_stiffness_rear_per_rad))
-    return fail(error, "cornering_stiffness_rear_per_rad", cornering_stiffness_rear_per_rad, "finite and > 0");
+    return failValidation(error, "cornering_stiffness_rear_per_rad", cornering_stiffness_rear_per_rad, "finite and > 0");
   if (!positive(longitudinal_slip_stiffness))
-    return fail(error, "longitudinal_slip_stiffness", longitudinal_slip_stiffness, "finite and > 0");
-  if (!positive(gravity_mps2)) return fail(error, "gravity_mps2", gravity_mps2, "finite and > 0");
+    return failValidation(error, "longitudinal_slip_stiffness", longitudinal_slip_stiffness, "finite and > 0");
+  if (!positive(gravity_mps2)) return failValidation(error, "gravity_mps2", gravity_mps2, "finite and > 0");
   return true;
 }
 

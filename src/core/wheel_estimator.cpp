@@ -2,25 +2,12 @@
 
 #include <cmath>
 #include <limits>
-#include <sstream>
 #include <stdexcept>
 
 #include "tread_wear/core/units.h"
+#include "tread_wear/core/validation.h"
 
 namespace tread_wear {
-namespace {
-
-bool fail(std::string* error, const char* field, double value, const char* constraint) {
-  if (error != nullptr) {
-    std::ostringstream msg;
-    msg.precision(10);
-    msg << field << " = " << value << ": must be " << constraint;
-    *error = msg.str();
-  }
-  return false;
-}
-
-}  // namespace
 
 const char* inputKindName(InputKind kind) {
   switch (kind) {
@@ -61,18 +48,18 @@ const char* wheelStatusName(WheelStatus status) {
 }
 
 bool InputLimits::validate(std::string* error) const {
-  if (!(max_load_n > 0.0) || !std::isfinite(max_load_n)) return fail(error, "max_load_n", max_load_n, "finite and > 0");
+  if (!(max_load_n > 0.0) || !std::isfinite(max_load_n)) return failValidation(error, "max_load_n", max_load_n, "finite and > 0");
   if (!(max_abs_slip_angle_rad > 0.0 && max_abs_slip_angle_rad < 0.5 * units::kPi))
-    return fail(error, "max_abs_slip_angle_rad", max_abs_slip_angle_rad, "in (0, pi/2)");
+    return failValidation(error, "max_abs_slip_angle_rad", max_abs_slip_angle_rad, "in (0, pi/2)");
   if (!(max_abs_slip_ratio > 0.0 && max_abs_slip_ratio <= 1.0))
-    return fail(error, "max_abs_slip_ratio", max_abs_slip_ratio, "in (0, 1]");
+    return failValidation(error, "max_abs_slip_ratio", max_abs_slip_ratio, "in (0, 1]");
   if (!(max_abs_path_curvature_per_m > 0.0) || !std::isfinite(max_abs_path_curvature_per_m))
-    return fail(error, "max_abs_path_curvature_per_m", max_abs_path_curvature_per_m, "finite and > 0");
+    return failValidation(error, "max_abs_path_curvature_per_m", max_abs_path_curvature_per_m, "finite and > 0");
   if (!(max_speed_mps > 0.0) || !std::isfinite(max_speed_mps))
-    return fail(error, "max_speed_mps", max_speed_mps, "finite and > 0");
-  if (!std::isfinite(min_temperature_c)) return fail(error, "min_temperature_c", min_temperature_c, "finite");
+    return failValidation(error, "max_speed_mps", max_speed_mps, "finite and > 0");
+  if (!std::isfinite(min_temperature_c)) return failValidation(error, "min_temperature_c", min_temperature_c, "finite");
   if (!(max_temperature_c > min_temperature_c) || !std::isfinite(max_temperature_c))
-    return fail(error, "max_temperature_c", max_temperature_c, "finite and > min_temperature_c");
+    return failValidation(error, "max_temperature_c", max_temperature_c, "finite and > min_temperature_c");
   return true;
 }
 
@@ -163,9 +150,9 @@ bool WheelEstimatorParams::validate(std::string* error) const {
     return false;
   }
   if (!(stale_timeout_s > 0.0) || !std::isfinite(stale_timeout_s))
-    return fail(error, "stale_timeout_s", stale_timeout_s, "finite and > 0");
+    return failValidation(error, "stale_timeout_s", stale_timeout_s, "finite and > 0");
   if (!(max_step_s > stale_timeout_s) || !std::isfinite(max_step_s))
-    return fail(error, "max_step_s", max_step_s, "finite and > stale_timeout_s");
+    return failValidation(error, "max_step_s", max_step_s, "finite and > stale_timeout_s");
   return true;
 }
 
