@@ -8,6 +8,7 @@
 #include "tread_wear/core/diagnosis/cli.h"
 #include "tread_wear/core/diagnosis/data.h"
 #include "tread_wear/core/diagnosis/extensions.h"
+#include "tread_wear/core/diagnosis/harness.h"
 
 using namespace tread_wear;
 using namespace tread_wear::diagnosis;
@@ -138,4 +139,24 @@ TEST(DiagnosisInputs, ConcealErrors) {
   const CliResult list = concealCli({"--list"});
   EXPECT_EQ(list.code, 0);
   for (const TermInfo& t : termLibrary()) EXPECT_NE(list.out.find(t.name), std::string::npos) << t.name;
+}
+
+// The success-rate table counts each wear-noise level on its own: totals per level, controls apart.
+TEST(DiagnosisHarness, TableTotalsPerNoiseLevel) {
+  auto outcome = [](const std::string& effect, double noise, bool right) {
+    HarnessOutcome o;
+    o.c.spec.effect = effect;
+    o.c.spec.wear_noise_rsd = noise;
+    o.c.magnitude_label = effect == "none" ? "-" : "small";
+    o.right = right;
+    return o;
+  };
+  const std::vector<HarnessOutcome> outcomes = {
+      outcome("sensor_gain", 0.05, true), outcome("sensor_gain", 0.05, false), outcome("none", 0.05, true),
+      outcome("sensor_gain", 0.10, true), outcome("none", 0.10, false), outcome("none", 0.10, true)};
+  const std::string table = harnessTable(outcomes);
+  EXPECT_NE(table.find("At wear RSD 5%: right explanation 50% (1/2)"), std::string::npos) << table;
+  EXPECT_NE(table.find("controls `none` 100% (1/1)."), std::string::npos) << table;
+  EXPECT_NE(table.find("At wear RSD 10%: right explanation 100% (1/1)"), std::string::npos) << table;
+  EXPECT_NE(table.find("controls `none` 50% (1/2)."), std::string::npos) << table;
 }
