@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "tread_wear/core/calibration.h"
+#include "tread_wear/core/command_line.h"
 #include "tread_wear/core/params_io.h"
 #include "tread_wear/core/reference_models.h"
 #include "tread_wear/core/run_table.h"
@@ -53,37 +54,6 @@ const char* const kReferenceUsage =
     "only if every run has a tread temperature) fitted on error ratios with leave-one-condition-out RMSER;\n"
     "writes DIR/table5.md and DIR/table5.json (default docs/figures).\n";
 
-struct Args {
-  std::map<std::string, std::string> options;
-  std::set<std::string> flags;
-};
-
-bool parseArgs(int argc, const char* const argv[], const std::set<std::string>& with_value,
-               const std::set<std::string>& flags, Args* args, std::string* error) {
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const std::string key = arg.size() > 2 && arg.compare(0, 2, "--") == 0 ? arg.substr(2) : "";
-    if (arg == "-h" || key == "help") {
-      args->flags.insert("help");
-    } else if (flags.count(key)) {
-      args->flags.insert(key);
-    } else if (with_value.count(key)) {
-      if (i + 1 >= argc) {
-        *error = "option '" + arg + "' needs a value";
-        return false;
-      }
-      if (!args->options.emplace(key, argv[++i]).second) {
-        *error = "option '" + arg + "' given twice";
-        return false;
-      }
-    } else {
-      *error = "unknown argument '" + arg + "'";
-      return false;
-    }
-  }
-  return true;
-}
-
 int usageError(std::ostream& err, const std::string& message, const char* usage) {
   err << "error: " << message << "\n" << usage;
   return kExitUsage;
@@ -95,10 +65,10 @@ bool parseOrientationName(const std::string& text, TurnSlipOrientation* orientat
   return true;
 }
 
-bool parseNumber(const std::string& text, double* value) {
-  char* end = nullptr;
-  *value = std::strtod(text.c_str(), &end);
-  return !text.empty() && end == text.c_str() + text.size() && std::isfinite(*value);
+/// "NX,NY" (x steps, lateral strips), nothing else.
+bool parseGrid(const std::string& text, int* n_x_steps, int* n_strips) {
+  char tail = 0;
+  return std::sscanf(text.c_str(), "%d,%d%c", n_x_steps, n_strips, &tail) == 2;
 }
 
 std::string percent(double fraction) {
@@ -111,55 +81,47 @@ std::string percent(double fraction) {
 }  // namespace
 
 int runCalibrateCli(int argc, const char* const argv[], std::ostream& out, std::ostream& err) {
-  Args args;
+  CommandLine args;
   std::string error;
-  if (!parseArgs(argc, argv,
+  if (!args.parse(argc, argv,
                  {"params", "runs", "fit", "target", "orientation", "prior-weight", "fy-weight", "wear-weight", "grid",
                   "json", "out-params"},
-                 {"no-cv"}, &args, &error))
+                 {"no-cv"}, &error))
     return usageError(err, error, kCalibrateUsage);
-  if (args.flags.count("help")) {
+  if (args.help()) {
     out << kCalibrateUsage;
     return 0;
   }
   for (const char* required : {"params", "runs", "json"})
-    if (!args.options.count(required))
+    if (!args.has(required))
       return usageError(err, std::string("--") + required + " is required", kCalibrateUsage);
 
   CalibrationOptions options;
   try {
-    if (args.options.count("fit")) options.fit = parseParameterList(args.options["fit"]);
+    if (args.has("fit")) options.fit = parseParameterList(args.get("fit"));
   } catch (const std::invalid_argument& e) {
     return usageError(err, std::string("--fit: ") + e.what(), kCalibrateUsage);
   }
-  if (args.options.count("target") && !parseTarget(args.options["target"], &options.target))
+  if (args.has("target") && !parseTarget(args.get("target"), &options.target))
     return usageError(err, "--target must be auto, side_force, wear or both", kCalibrateUsage);
-  if (args.options.count("orientation") && !parseOrientationName(args.options["orientation"], &options.orientation))
-    return usageError(err, "--orientation must be literal or flipped, not '" + args.options["orientation"] + "'",
+  if (args.has("orientation") && !parseOrientationName(args.get("orientation"), &options.orientation))
+    return usageError(err, "--orientation must be literal or flipped, not '" + args.get("orientation") + "'",
                       kCalibrateUsage);
   const std::pair<const char*, double*> numbers[] = {{"prior-weight", &options.prior_weight},
                                                      {"fy-weight", &options.side_force_weight},
                                                      {"wear-weight", &options.wear_weight}};
   for (const auto& [name, target] : numbers)
-    if (args.options.count(name) && !parseNumber(args.options[name], target))
-      return usageError(err, std::string("--") + name + " must be a number, not '" + args.options[name] + "'",
-                        kCalibrateUsage);
-  if (args.options.count("grid")) {
-    int nx = 0, ny = 0;
-    char tail = 0;
-    if (std::sscanf(args.options["grid"].c_str(), "%d,%d%c", &nx, &ny, &tail) != 2)
-      return usageError(err, "--grid must be NX,NY (for example 400,24)", kCalibrateUsage);
-    options.grid.n_x_steps = nx;
-    options.grid.n_strips = ny;
-  }
-  options.cross_validate = !args.flags.count("no-cv");
+    if (!args.number(name, target, &error)) return usageError(err, error, kCalibrateUsage);
+  if (args.has("grid") && !parseGrid(args.get("grid"), &options.grid.n_x_steps, &options.grid.n_strips))
+    return usageError(err, "--grid must be NX,NY (for example 400,24)", kCalibrateUsage);
+  options.cross_validate = !args.has("no-cv");
   if (!options.validate(&error)) return usageError(err, error, kCalibrateUsage);
 
   try {
-    const TireParams initial = loadTireParams(args.options["params"]);
-    const RunTable runs = readRunTable(args.options["runs"]);
+    const TireParams initial = loadTireParams(args.get("params"));
+    const RunTable runs = readRunTable(args.get("runs"));
     const CalibrationResult result = calibrate(initial, runs, options);
-    out << "calibration of " << initial.name << " to " << args.options["runs"] << " (" << runs.runs.size()
+    out << "calibration of " << initial.name << " to " << args.get("runs") << " (" << runs.runs.size()
         << " runs), target " << targetName(result.target) << ", orientation "
         << (options.orientation == TurnSlipOrientation::kLiteral ? "literal" : "flipped") << "\n"
         << result.summary.report() << "RMSER side force: initial " << percent(result.initial.rmser_side_force)
@@ -167,22 +129,22 @@ int runCalibrateCli(int argc, const char* const argv[], std::ostream& out, std::
         << percent(result.cross_validated.rmser_side_force) << "\nRMSER wear rate:  initial "
         << percent(result.initial.rmser_wear) << ", fitted " << percent(result.fitted.rmser_wear)
         << ", leave-one-condition-out " << percent(result.cross_validated.rmser_wear) << "\n";
-    std::ofstream json(args.options["json"]);
+    std::ofstream json(args.get("json"));
     if (!json) {
-      err << "error: cannot write " << args.options["json"] << "\n";
+      err << "error: cannot write " << args.get("json") << "\n";
       return kExitData;
     }
     json << calibrationToJson(result).dump(2) << "\n";
-    if (args.options.count("out-params")) {
+    if (args.has("out-params")) {
       std::ostringstream comment;
-      comment << "Calibrated by tread_wear_calibrate: fit " << args.options["runs"] << ", parameters";
+      comment << "Calibrated by tread_wear_calibrate: fit " << args.get("runs") << ", parameters";
       for (const std::string& n : options.fit) comment << " " << n;
       comment << ", target " << targetName(result.target) << ", orientation "
               << (options.orientation == TurnSlipOrientation::kLiteral ? "literal" : "flipped") << ", RMSER Fy "
               << percent(result.fitted.rmser_side_force) << " (LOO " << percent(result.cross_validated.rmser_side_force)
               << "), W_r " << percent(result.fitted.rmser_wear) << " (LOO "
               << percent(result.cross_validated.rmser_wear) << ")";
-      saveTireParams(result.params, args.options["out-params"], comment.str());
+      saveTireParams(result.params, args.get("out-params"), comment.str());
     }
     if (!result.summary.usable) {
       err << "error: the fit is not usable: " << result.summary.message << "\n";
@@ -206,22 +168,22 @@ int runCalibrateCli(int argc, const char* const argv[], std::ostream& out, std::
 namespace tread_wear {
 
 int runWearCharacteristicsCli(int argc, const char* const argv[], std::ostream& out, std::ostream& err) {
-  Args args;
+  CommandLine args;
   std::string error;
-  if (!parseArgs(argc, argv, {"params", "orientation", "out-dir"}, {}, &args, &error))
+  if (!args.parse(argc, argv, {"params", "orientation", "out-dir"}, {}, &error))
     return usageError(err, error, kCharacteristicsUsage);
-  if (args.flags.count("help")) {
+  if (args.help()) {
     out << kCharacteristicsUsage;
     return 0;
   }
-  if (!args.options.count("params")) return usageError(err, "--params is required", kCharacteristicsUsage);
+  if (!args.has("params")) return usageError(err, "--params is required", kCharacteristicsUsage);
   CharacteristicsOptions options;
-  if (args.options.count("orientation") &&
-      !parseOrientationName(args.options["orientation"], &options.brush.orientation))
+  if (args.has("orientation") &&
+      !parseOrientationName(args.get("orientation"), &options.brush.orientation))
     return usageError(err, "--orientation must be literal or flipped", kCharacteristicsUsage);
-  const std::string dir = args.options.count("out-dir") ? args.options["out-dir"] : "docs/figures";
+  const std::string dir = args.get("out-dir", "docs/figures");
   try {
-    const TireParams params = loadTireParams(args.options["params"]);
+    const TireParams params = loadTireParams(args.get("params"));
     const WearCharacteristics wc = computeWearCharacteristics(params, options);
     writeWearCharacteristicsCsv(wc, options, dir);
     out << "side force [N] -> optimal load [N] (W_r [g/km]) at " << options.load_sweep_speed_mps << " m/s:\n";
@@ -247,27 +209,26 @@ int runWearCharacteristicsCli(int argc, const char* const argv[], std::ostream& 
 }
 
 int runReferenceModelsCli(int argc, const char* const argv[], std::ostream& out, std::ostream& err) {
-  Args args;
+  CommandLine args;
   std::string error;
-  if (!parseArgs(argc, argv, {"params", "runs", "orientation", "grid", "out-dir"}, {}, &args, &error))
+  if (!args.parse(argc, argv, {"params", "runs", "orientation", "grid", "out-dir"}, {}, &error))
     return usageError(err, error, kReferenceUsage);
-  if (args.flags.count("help")) {
+  if (args.help()) {
     out << kReferenceUsage;
     return 0;
   }
   for (const char* required : {"params", "runs"})
-    if (!args.options.count(required))
+    if (!args.has(required))
       return usageError(err, std::string("--") + required + " is required", kReferenceUsage);
   CalibrationOptions opt_options;
-  if (args.options.count("orientation") && !parseOrientationName(args.options["orientation"], &opt_options.orientation))
+  if (args.has("orientation") && !parseOrientationName(args.get("orientation"), &opt_options.orientation))
     return usageError(err, "--orientation must be literal or flipped", kReferenceUsage);
-  if (args.options.count("grid") && std::sscanf(args.options["grid"].c_str(), "%d,%d", &opt_options.grid.n_x_steps,
-                                                &opt_options.grid.n_strips) != 2)
-    return usageError(err, "--grid must be NX,NY", kReferenceUsage);
-  const std::string dir = args.options.count("out-dir") ? args.options["out-dir"] : "docs/figures";
+  if (args.has("grid") && !parseGrid(args.get("grid"), &opt_options.grid.n_x_steps, &opt_options.grid.n_strips))
+    return usageError(err, "--grid must be NX,NY (for example 200,16)", kReferenceUsage);
+  const std::string dir = args.get("out-dir", "docs/figures");
   try {
-    const TireParams params = loadTireParams(args.options["params"]);
-    const RunTable runs = readRunTable(args.options["runs"]);
+    const TireParams params = loadTireParams(args.get("params"));
+    const RunTable runs = readRunTable(args.get("runs"));
     bool temperatures = true;
     for (const RunRecord& r : runs.runs) temperatures = temperatures && std::isfinite(r.op.tread_temperature_c);
 

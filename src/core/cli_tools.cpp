@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "tread_wear/core/command_line.h"
 #include "tread_wear/core/conditions_csv.h"
 #include "tread_wear/core/csv.h"
 #include "tread_wear/core/params_io.h"
@@ -51,41 +52,6 @@ const char* const kCompareUsage =
     "  --preset NAME        fast or standard: the brush marcher at that grid; reference (default): the\n"
     "                       independent CVODE reference solver (reference_solver.h)\n"
     "  --csv OUT.csv        also write the per-run comparison in SI to OUT.csv\n";
-
-/// "--name value" options and positional arguments; false with a message on a malformed command line.
-struct Args {
-  std::map<std::string, std::string> options;
-  std::vector<std::string> positional;
-  bool help = false;
-};
-
-bool parseArgs(int argc, const char* const argv[], const std::vector<std::string>& known, Args* args,
-               std::string* error) {
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--help" || arg == "-h") {
-      args->help = true;
-    } else if (arg.size() > 2 && arg.compare(0, 2, "--") == 0) {
-      bool ok = false;
-      for (const std::string& k : known) ok = ok || arg == "--" + k;
-      if (!ok) {
-        *error = "unknown option '" + arg + "'";
-        return false;
-      }
-      if (i + 1 >= argc) {
-        *error = "option '" + arg + "' needs a value";
-        return false;
-      }
-      if (!args->options.emplace(arg.substr(2), argv[++i]).second) {
-        *error = "option '" + arg + "' given twice";
-        return false;
-      }
-    } else {
-      args->positional.push_back(arg);
-    }
-  }
-  return true;
-}
 
 bool parseOrientation(const std::string& text, TurnSlipOrientation* orientation) {
   if (text == "literal") {
@@ -158,27 +124,27 @@ std::string fixed(double value, int decimals) {
 }  // namespace
 
 int runEvalCli(int argc, const char* const argv[], std::istream& in, std::ostream& out, std::ostream& err) {
-  Args args;
+  CommandLine args;
   std::string error;
-  if (!parseArgs(argc, argv, {"params", "orientation", "preset"}, &args, &error))
+  if (!args.parse(argc, argv, {"params", "orientation", "preset"}, {}, &error, 1))
     return usageError(err, error, kEvalUsage);
-  if (args.help) {
+  if (args.help()) {
     out << kEvalUsage;
     return 0;
   }
-  if (!args.options.count("params")) return usageError(err, "--params FILE is required", kEvalUsage);
-  if (args.positional.size() != 1)
+  if (!args.has("params")) return usageError(err, "--params FILE is required", kEvalUsage);
+  if (args.positional().size() != 1)
     return usageError(err, "give exactly one conditions file (or '-' for stdin)", kEvalUsage);
   WearModelOptions options;
-  if (args.options.count("orientation") && !parseOrientation(args.options["orientation"], &options.orientation))
-    return usageError(err, "--orientation must be literal or flipped, not '" + args.options["orientation"] + "'",
+  if (args.has("orientation") && !parseOrientation(args.get("orientation"), &options.orientation))
+    return usageError(err, "--orientation must be literal or flipped, not '" + args.get("orientation") + "'",
                       kEvalUsage);
-  if (args.options.count("preset") && !parsePreset(args.options["preset"], &options.preset))
-    return usageError(err, "--preset must be fast, standard or reference, not '" + args.options["preset"] + "'",
+  if (args.has("preset") && !parsePreset(args.get("preset"), &options.preset))
+    return usageError(err, "--preset must be fast, standard or reference, not '" + args.get("preset") + "'",
                       kEvalUsage);
   try {
-    const TireParams params = loadTireParams(args.options["params"]);
-    const std::string& source = args.positional[0];
+    const TireParams params = loadTireParams(args.get("params"));
+    const std::string& source = args.positional()[0];
     ConditionsTable table;
     if (source == "-") {
       table = readConditions(in, "stdin");
@@ -215,36 +181,35 @@ int runEvalCli(int argc, const char* const argv[], std::istream& in, std::ostrea
 }
 
 int runCompareCli(int argc, const char* const argv[], std::ostream& out, std::ostream& err) {
-  Args args;
+  CommandLine args;
   std::string error;
-  if (!parseArgs(argc, argv, {"params", "runs", "orientation", "preset", "csv"}, &args, &error))
+  if (!args.parse(argc, argv, {"params", "runs", "orientation", "preset", "csv"}, {}, &error))
     return usageError(err, error, kCompareUsage);
-  if (args.help) {
+  if (args.help()) {
     out << kCompareUsage;
     return 0;
   }
-  if (!args.positional.empty()) return usageError(err, "unexpected argument '" + args.positional[0] + "'", kCompareUsage);
-  if (!args.options.count("params") || !args.options.count("runs"))
+  if (!args.has("params") || !args.has("runs"))
     return usageError(err, "--params FILE and --runs FILE are required", kCompareUsage);
   std::vector<TurnSlipOrientation> orientations = {TurnSlipOrientation::kLiteral, TurnSlipOrientation::kFlipped};
-  if (args.options.count("orientation") && args.options["orientation"] != "both") {
+  if (args.has("orientation") && args.get("orientation") != "both") {
     TurnSlipOrientation o;
-    if (!parseOrientation(args.options["orientation"], &o))
+    if (!parseOrientation(args.get("orientation"), &o))
       return usageError(err, "--orientation must be literal, flipped or both", kCompareUsage);
     orientations = {o};
   }
   Preset preset = Preset::kReference;
-  if (args.options.count("preset") && !parsePreset(args.options["preset"], &preset))
+  if (args.has("preset") && !parsePreset(args.get("preset"), &preset))
     return usageError(err, "--preset must be fast, standard or reference", kCompareUsage);
   try {
-    const TireParams params = loadTireParams(args.options["params"]);
-    const RunTable table = readRunTable(args.options["runs"]);
+    const TireParams params = loadTireParams(args.get("params"));
+    const RunTable table = readRunTable(args.get("runs"));
     std::ostringstream report;
     std::ostringstream csv_text;
     csv_text << "orientation,run,condition_id,speed_mps,slip_angle_rad,slip_ratio,path_radius_m,load_n,load_std_n,"
                 "measured_side_force_n,predicted_side_force_n,side_force_error_ratio,measured_wear_rate_kg_per_m,"
                 "predicted_wear_rate_kg_per_m,wear_error_ratio\n";
-    report << "params: " << args.options["params"] << " (" << params.name << "), runs: " << args.options["runs"]
+    report << "params: " << args.get("params") << " (" << params.name << "), runs: " << args.get("runs")
            << ", preset: " << presetName(preset) << "\n";
     std::vector<std::string> summary;
     for (TurnSlipOrientation orientation : orientations) {
@@ -293,12 +258,12 @@ int runCompareCli(int argc, const char* const argv[], std::ostream& out, std::os
       report << "\n";
       for (const std::string& s : summary) report << s << "\n";
     }
-    if (args.options.count("csv")) {
-      std::ofstream file(args.options["csv"]);
+    if (args.has("csv")) {
+      std::ofstream file(args.get("csv"));
       file << csv_text.str();
       file.flush();
       if (!file) {
-        err << "error: " << args.options["csv"] << ": cannot write\n";
+        err << "error: " << args.get("csv") << ": cannot write\n";
         return kExitData;
       }
     }

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "tread_wear/core/brush_wear_model.h"
+#include "tread_wear/core/command_line.h"
 #include "tread_wear/core/params_io.h"
 #include "tread_wear/core/reference_solver.h"
 #include "tread_wear/core/units.h"
@@ -168,26 +169,18 @@ std::vector<OperatingPoint> table3RigConditions() {
 }
 
 int runConvergenceCli(int argc, const char* const argv[], std::ostream& out, std::ostream& err) {
-  std::string params_path, orientation = "both";
-  bool quick = false, extended = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--help" || arg == "-h") {
-      out << kUsage;
-      return 0;
-    } else if (arg == "--params" && i + 1 < argc) {
-      params_path = argv[++i];
-    } else if (arg == "--orientation" && i + 1 < argc) {
-      orientation = argv[++i];
-    } else if (arg == "--quick") {
-      quick = true;
-    } else if (arg == "--extended") {
-      extended = true;
-    } else {
-      err << "tread_wear_convergence: unknown or incomplete argument '" << arg << "'\n" << kUsage;
-      return 2;
-    }
+  CommandLine args;
+  std::string error;
+  if (!args.parse(argc, argv, {"params", "orientation"}, {"quick", "extended"}, &error)) {
+    err << "tread_wear_convergence: " << error << "\n" << kUsage;
+    return 2;
   }
+  if (args.help()) {
+    out << kUsage;
+    return 0;
+  }
+  const std::string params_path = args.get("params"), orientation = args.get("orientation", "both");
+  const bool quick = args.has("quick"), extended = args.has("extended");
   if (orientation != "literal" && orientation != "flipped" && orientation != "both") {
     err << "tread_wear_convergence: --orientation " << orientation << ": must be literal, flipped or both\n";
     return 2;

@@ -3,11 +3,11 @@
 #include <ros/time.h>
 
 #include <cstdio>
-#include <cstdlib>
 #include <exception>
 #include <string>
 
 #include "bag_io.h"
+#include "tread_wear/core/command_line.h"
 
 namespace {
 
@@ -24,37 +24,32 @@ const char* const kUsage =
 
 int main(int argc, char** argv) {
   const std::string share = TREAD_WEAR_SHARE_DIR;
-  std::string profile_path = share + "/data/wltc_class3b.csv", vehicle_path = share + "/config/vehicle_passenger_car.yaml";
-  std::string out;
   tread_wear::DriveOptions options;
   tread_wear::RouteParams route_params;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const bool has_value = i + 1 < argc;
-    if (arg == "--help" || arg == "-h") {
-      std::fputs(kUsage, stdout);
-      return 0;
-    } else if (arg == "--profile" && has_value) {
-      profile_path = argv[++i];
-    } else if (arg == "--vehicle" && has_value) {
-      vehicle_path = argv[++i];
-    } else if (arg == "--out" && has_value) {
-      out = argv[++i];
-    } else if (arg == "--rate-hz" && has_value) {
-      options.rate_hz = std::atof(argv[++i]);
-    } else if (arg == "--lateral-accel-limit" && has_value) {
-      route_params.lateral_accel_limit_mps2 = std::atof(argv[++i]);
-    } else if (arg == "--seed" && has_value) {
-      route_params.seed = static_cast<std::uint32_t>(std::strtoul(argv[++i], nullptr, 10));
-    } else {
-      std::fprintf(stderr, "tread_wear_drive: unknown or incomplete argument '%s'\n%s", arg.c_str(), kUsage);
-      return 2;
-    }
-  }
-  if (out.empty() || !(options.rate_hz > 0.0)) {
-    std::fprintf(stderr, "tread_wear_drive: --out is required and --rate-hz must be > 0\n%s", kUsage);
+  auto usage_error = [](const std::string& message) {
+    std::fprintf(stderr, "tread_wear_drive: %s\n%s", message.c_str(), kUsage);
     return 2;
+  };
+  tread_wear::CommandLine args;
+  std::string error;
+  if (!args.parse(argc, argv, {"profile", "vehicle", "out", "rate-hz", "lateral-accel-limit", "seed"}, {}, &error))
+    return usage_error(error);
+  if (args.help()) {
+    std::fputs(kUsage, stdout);
+    return 0;
   }
+  int seed = static_cast<int>(route_params.seed);
+  if (!args.number("rate-hz", &options.rate_hz, &error) ||
+      !args.number("lateral-accel-limit", &route_params.lateral_accel_limit_mps2, &error) ||
+      !args.integer("seed", &seed, &error))
+    return usage_error(error);
+  if (!args.has("out")) return usage_error("--out is required");
+  if (!(options.rate_hz > 0.0)) return usage_error("--rate-hz must be > 0");
+  if (seed < 0) return usage_error("--seed must be >= 0");
+  route_params.seed = static_cast<std::uint32_t>(seed);
+  const std::string profile_path = args.get("profile", share + "/data/wltc_class3b.csv");
+  const std::string vehicle_path = args.get("vehicle", share + "/config/vehicle_passenger_car.yaml");
+  const std::string out = args.get("out");
   try {
     ros::Time::init();
     const tread_wear::SpeedProfile profile = tread_wear::SpeedProfile::load(profile_path);

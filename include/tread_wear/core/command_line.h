@@ -1,0 +1,45 @@
+#pragma once
+/// @file command_line.h
+/// The one command-line parser of the tools (tread_wear_eval, _compare, _calibrate, _diagnose, _drive, ...):
+/// "--name value" options, "--name" switches and positional arguments. Every tool rejects unknown options,
+/// missing values, repeated options and malformed numbers the same way, with a message naming the argument.
+
+#include <cstddef>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace tread_wear {
+
+class CommandLine {
+ public:
+  /// Names are given without the leading "--". "-h" and "--help" set help(). False with *error naming the
+  /// argument for an unknown option, an option without its value, an option given twice, or more than
+  /// max_positional positional arguments.
+  bool parse(int argc, const char* const argv[], const std::vector<std::string>& value_options,
+             const std::vector<std::string>& switches, std::string* error, std::size_t max_positional = 0);
+
+  bool help() const { return help_; }
+  /// True when the value option or switch `name` (without "--") was given.
+  bool has(const std::string& name) const { return values_.count(name) > 0 || switches_.count(name) > 0; }
+  /// The value of option `name`, or `fallback` when it was not given.
+  std::string get(const std::string& name, const std::string& fallback = "") const;
+  const std::vector<std::string>& positional() const { return positional_; }
+
+  /// Option `name` as a finite number, or an integer: *value is left as it is when the option is absent;
+  /// false with "--name must be a number, not 'text'" (or "an integer") when it is present but malformed.
+  bool number(const std::string& name, double* value, std::string* error) const;
+  bool integer(const std::string& name, int* value, std::string* error) const;
+
+ private:
+  std::map<std::string, std::string> values_;
+  std::set<std::string> switches_;
+  std::vector<std::string> positional_;
+  bool help_ = false;
+};
+
+/// The non-empty items of a separated list ("a,b,,c" -> a, b, c).
+std::vector<std::string> splitList(const std::string& text, char separator = ',');
+
+}  // namespace tread_wear
