@@ -8,6 +8,7 @@
 #include <regex>
 #include <string>
 
+#include "temp_file.h"
 #include "tread_wear/core/params_io.h"
 
 namespace tread_wear {
@@ -27,22 +28,6 @@ std::string readFile(const std::string& path) {
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
-/// Writes text to a fresh temporary file and removes it at scope exit.
-class TempFile {
- public:
-  explicit TempFile(const std::string& text) {
-    path_ = testing::TempDir() + "tread_wear_params_" + std::to_string(counter_++) + ".yaml";
-    std::ofstream(path_) << text;
-  }
-  ~TempFile() { std::remove(path_.c_str()); }
-  const std::string& path() const { return path_; }
-
- private:
-  static int counter_;
-  std::string path_;
-};
-int TempFile::counter_ = 0;
-
 /// The bundled file with one line replaced (the line must exist).
 std::string groschWith(const std::string& old_line, const std::string& new_line) {
   std::string text = readFile(kGroschFile);
@@ -54,7 +39,7 @@ std::string groschWith(const std::string& old_line, const std::string& new_line)
 
 /// Loads text expecting a ParamsError whose message contains every fragment.
 void expectError(const std::string& text, const std::vector<std::string>& fragments) {
-  TempFile file(text);
+  TempFile file(text, ".yaml");
   try {
     loadTireParams(file.path());
     ADD_FAILURE() << "no error for:\n" << text;
@@ -121,25 +106,25 @@ TEST(ParamsIo, GroschFileMatchesTheCompiledDefaults) {
 
 TEST(ParamsIo, SiSpellingsGiveTheSameValues) {
   const TireParams si = [] {
-    TempFile f(groschWith("k_y0_MPa_per_mm: 0.92", "k_y0_Pa_per_m: 0.92e9"));
+    TempFile f(groschWith("k_y0_MPa_per_mm: 0.92", "k_y0_Pa_per_m: 0.92e9"), ".yaml");
     return loadTireParams(f.path());
   }();
   expectSi(0.92e9, si.tread.k_y0_pa_per_m, "k_y0 in Pa/m");
-  TempFile f(groschWith("v_m_mm_per_s: 70.09", "v_m_m_per_s: 0.07009"));
+  TempFile f(groschWith("v_m_mm_per_s: 70.09", "v_m_m_per_s: 0.07009"), ".yaml");
   expectSi(0.07009, loadTireParams(f.path()).friction.v_m_mps, "v_m in m/s");
 }
 
 TEST(ParamsIo, MaterialAndRigSectionsAreOptional) {
   std::string text = readFile(kGroschFile);
   text = text.substr(0, text.find("material:"));
-  TempFile f(text);
+  TempFile f(text, ".yaml");
   const TireParams p = loadTireParams(f.path());
   EXPECT_EQ(p.material.tread_depth_m, MaterialParams().tread_depth_m);
   EXPECT_EQ(loadRigGeometry(f.path()).track_radius_m, RigGeometry().track_radius_m);
 }
 
 TEST(ParamsIo, TemperatureSwitch) {
-  TempFile f(groschWith("temperature_enabled: false", "temperature_enabled: true"));
+  TempFile f(groschWith("temperature_enabled: false", "temperature_enabled: true"), ".yaml");
   EXPECT_TRUE(loadTireParams(f.path()).wear.temperature_enabled);
   expectError(groschWith("temperature_enabled: false", "temperature_enabled: maybe"),
               {"wear.temperature_enabled", "maybe", "true or false"});
@@ -190,7 +175,7 @@ TEST(ParamsIo, SaveLoadRoundTripIsExact) {
   p.tread.k_y0_pa_per_m = 1.234567890123e9;
   p.wear.w3_kg_per_s_m2 = 0.1 / 3.0;  // not representable in few digits
   p.wear.temperature_enabled = true;
-  TempFile out("");
+  TempFile out("", ".yaml");
   saveTireParams(p, out.path(), "fit of Table 3\nsecond line");
   const std::string text = readFile(out.path());
   EXPECT_EQ(text.rfind("# fit of Table 3\n# second line\n", 0), 0u) << text;

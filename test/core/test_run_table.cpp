@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "temp_file.h"
 #include "tread_wear/core/run_table.h"
 #include "tread_wear/core/units.h"
 
@@ -17,29 +18,14 @@ namespace {
 const std::string kTable3 = std::string(TREAD_WEAR_SOURCE_DIR) + "/data/paper/table3_runs.csv";
 const std::string kMarker = "# tread_wear run table v1\n";
 
-class TempFile {
- public:
-  explicit TempFile(const std::string& text) {
-    path_ = testing::TempDir() + "tread_wear_runs_" + std::to_string(counter_++) + ".csv";
-    std::ofstream(path_) << text;
-  }
-  ~TempFile() { std::remove(path_.c_str()); }
-  const std::string& path() const { return path_; }
-
- private:
-  static int counter_;
-  std::string path_;
-};
-int TempFile::counter_ = 0;
-
 RunTable readText(const std::string& text) {
-  TempFile f(text);
+  TempFile f(text, ".csv");
   return readRunTable(f.path());
 }
 
 /// Expects a RunTableError whose message starts with "<file>:<location>" and contains each fragment.
 void expectError(const std::string& text, const std::string& location, const std::vector<std::string>& fragments) {
-  TempFile f(text);
+  TempFile f(text, ".csv");
   try {
     readRunTable(f.path());
     ADD_FAILURE() << "no error for:\n" << text;
@@ -127,7 +113,7 @@ TEST(RunTable, WriteReadRoundTrip) {
   t.runs[0].cycle_id = 1;
   t.runs[0].op.tread_temperature_c = 44.0;
   t.runs[2].text_covariates[1] = "label, with \"quotes\"";
-  TempFile out("");
+  TempFile out("", ".csv");
   writeRunTable(t, out.path(), "round trip\nof Table 3");
   const RunTable u = readRunTable(out.path());
   ASSERT_EQ(u.runs.size(), t.runs.size());
