@@ -4,7 +4,9 @@
 // harness's, docs/diagnosis.md).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
 
 #include "tread_wear/core/diagnosis/conceal.h"
 #include "tread_wear/core/diagnosis/diagnosis.h"
@@ -72,3 +74,32 @@ TEST(DiagnosisRecovery, LoadFluctuation) { expectRecovered("load_fluctuation", 0
 TEST(DiagnosisRecovery, TurnSlipOrientation) { expectRecovered("turn_slip_orientation", std::nan("")); }
 TEST(DiagnosisRecovery, SensorGain) { expectRecovered("sensor_gain", 1.08); }
 TEST(DiagnosisRecovery, SensorOffset) { expectRecovered("sensor_offset", 4.0); }
+
+// Wear that follows a recorded covariate no library term knows (here humidity) is a mismatch the library cannot
+// explain: the verdict is "unexplained" and the covariate is named.
+TEST(DiagnosisRecovery, EffectOutsideTheLibraryIsUnexplained) {
+  ConcealSpec spec;
+  spec.effect = "none";
+  spec.design = "small";
+  spec.wear_noise_rsd = 0.01;
+  spec.side_force_noise_n = 0.2;
+  spec.seed = 11;
+  const TireParams base;
+  ConcealCase c = concealEffect(base, spec);
+  std::mt19937 draws(7);
+  std::uniform_real_distribution<double> humidity(0.2, 0.8);
+  c.table.covariate_names.push_back("humidity");
+  for (RunRecord& run : c.table.runs) {
+    const double h = humidity(draws);
+    run.covariates.push_back(h);
+    run.measured_wear_rate_kg_per_m *= 1.0 + 0.8 * (h - 0.5);  // +-24% of wear, 24x the noise
+  }
+  DiagnosisOptions opt;
+  opt.max_terms = 1;  // default 9999 permutations: 999 cannot pass the Holm correction over every covariate
+  const DiagnosisResult r = diagnose(base, buildDiagnosisData(c.table), opt);
+  EXPECT_TRUE(r.mismatch_found);
+  EXPECT_EQ(r.explanation, "unexplained");
+  EXPECT_NE(std::find(r.unexplained_covariates.begin(), r.unexplained_covariates.end(), "humidity"),
+            r.unexplained_covariates.end())
+      << "the residual follows humidity";
+}
