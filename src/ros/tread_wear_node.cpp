@@ -535,8 +535,7 @@ void TreadWearNode::publishMarkers(const ros::TimerEvent&) {
       fields.resize(solver.nodesX(), solver.strips());
       w->marker_model->evaluate(op, &result, &fields);
     }
-    const double text_height = std::max(0.01, 2.0 * std::max(result.half_width_m, result.half_length_m) / 3.0);
-    appendWheelMarkers(w->config.name, w->config.frame_id, stamp, fields, result, out, text_height, &array);
+    appendWheelMarkers(w->config.name, w->config.frame_id, stamp, fields, result, out, &array);
   }
   marker_publisher_.publish(array);
 }

@@ -7,6 +7,9 @@
 namespace tread_wear {
 namespace {
 
+/// Smallest label height [m] (a wheel without a patch yet still gets a readable label).
+constexpr double kMinTextHeightM = 0.01;
+
 std_msgs::ColorRGBA rgba(double r, double g, double b, double a = 1.0) {
   std_msgs::ColorRGBA c;
   c.r = static_cast<float>(r);
@@ -65,7 +68,7 @@ visualization_msgs::Marker base(const std::string& ns, const std::string& frame_
 
 void appendWheelMarkers(const std::string& wheel, const std::string& frame_id, const ros::Time& stamp,
                         const PatchFields& fields, const WearResult& result, const WheelOutput& output,
-                        double text_height_m, visualization_msgs::MarkerArray* array) {
+                        visualization_msgs::MarkerArray* array) {
   const int nx = fields.n_x_nodes, ny = fields.n_strips;
   const double b = result.half_width_m;
   if (nx >= 2 && ny >= 1 && b > 0.0) {
@@ -96,13 +99,19 @@ void appendWheelMarkers(const std::string& wheel, const std::string& frame_id, c
     array->markers.push_back(wear);
     array->markers.push_back(zones);
   }
+  // Two lines ahead of the leading edge, centred across both patches (wear at y = 0, zones at y = 2.5 b), in the
+  // road plane so that a view from above does not put them over the patch; sized to the patch so they stay
+  // readable beside it at any tire size.
+  const double patch_size_m = std::max(result.half_length_m, b);
+  const double text_height_m = std::max(kMinTextHeightM, 0.25 * patch_size_m);
   visualization_msgs::Marker label = base(wheel + "/label", frame_id, stamp, visualization_msgs::Marker::TEXT_VIEW_FACING);
-  label.pose.position.z = 0.5 * text_height_m + std::max(result.half_length_m, b);
+  label.pose.position.x = result.half_length_m + 1.5 * text_height_m;
+  label.pose.position.y = 1.25 * b;
   label.scale.z = text_height_m;
   char text[256];
-  std::snprintf(text, sizeof(text), "%s: %.3f mg, %.3f km, slide %.0f%%, %s", wheel.c_str(),
-                output.accumulated_loss_kg * 1e6, output.distance_m * 1e-3, 100.0 * output.result.slide_fraction,
-                wheelStatusName(output.status));
+  std::snprintf(text, sizeof(text), "%s (%s)\n%.3f mg, %.3f km, slide %.0f%%", wheel.c_str(),
+                wheelStatusName(output.status), output.accumulated_loss_kg * 1e6, output.distance_m * 1e-3,
+                100.0 * output.result.slide_fraction);
   label.text = text;
   array->markers.push_back(label);
 }

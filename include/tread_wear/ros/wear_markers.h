@@ -5,7 +5,8 @@
 ///                       (dark blue = lowest in the patch, yellow = highest);
 ///   ns "<wheel>/zones"  the same cells beside it (offset to +y by 2.5 b) coloured by contact state:
 ///                       green = exact stick, yellow = creep (0 < |v_s| <= v_m), red = slide (|v_s| > v_m);
-///   ns "<wheel>/label"  text above the patch: wheel, accumulated loss [mg], distance [km], status.
+///   ns "<wheel>/label"  two lines ahead of both patches: wheel and status; accumulated loss [mg], distance [km],
+///                       slide fraction. Text height a quarter of the patch size, at least 1 cm.
 /// Not real-time code: called at the marker rate from a non-RT timer.
 
 #include <visualization_msgs/MarkerArray.h>
@@ -19,9 +20,8 @@ namespace tread_wear {
 
 /// Appends the wheel's three markers to *array (ids 0, 1, 2 in the wheel's namespaces).
 /// @param fields local fields of the last evaluation; when fields.n_x_nodes == 0 only the label is drawn.
-/// @param text_height_m height of the label text [m]
 void appendWheelMarkers(const std::string& wheel, const std::string& frame_id, const ros::Time& stamp,
                         const PatchFields& fields, const WearResult& result, const WheelOutput& output,
-                        double text_height_m, visualization_msgs::MarkerArray* array);
+                        visualization_msgs::MarkerArray* array);
 
 }  // namespace tread_wear
