@@ -65,12 +65,6 @@ bool parseOrientationName(const std::string& text, TurnSlipOrientation* orientat
   return true;
 }
 
-/// "NX,NY" (x steps, lateral strips), nothing else.
-bool parseGrid(const std::string& text, int* n_x_steps, int* n_strips) {
-  char tail = 0;
-  return std::sscanf(text.c_str(), "%d,%d%c", n_x_steps, n_strips, &tail) == 2;
-}
-
 std::string percent(double fraction) {
   if (!std::isfinite(fraction)) return "-";
   char buffer[32];
@@ -112,7 +106,7 @@ int runCalibrateCli(int argc, const char* const argv[], std::ostream& out, std::
                                                      {"wear-weight", &options.wear_weight}};
   for (const auto& [name, target] : numbers)
     if (!args.number(name, target, &error)) return usageError(err, error, kCalibrateUsage);
-  if (args.has("grid") && !parseGrid(args.get("grid"), &options.grid.n_x_steps, &options.grid.n_strips))
+  if (args.has("grid") && !parseGridSize(args.get("grid"), &options.grid.n_x_steps, &options.grid.n_strips))
     return usageError(err, "--grid must be NX,NY (for example 400,24)", kCalibrateUsage);
   options.cross_validate = !args.has("no-cv");
   if (!options.validate(&error)) return usageError(err, error, kCalibrateUsage);
@@ -223,7 +217,7 @@ int runReferenceModelsCli(int argc, const char* const argv[], std::ostream& out,
   CalibrationOptions opt_options;
   if (args.has("orientation") && !parseOrientationName(args.get("orientation"), &opt_options.orientation))
     return usageError(err, "--orientation must be literal or flipped", kReferenceUsage);
-  if (args.has("grid") && !parseGrid(args.get("grid"), &opt_options.grid.n_x_steps, &opt_options.grid.n_strips))
+  if (args.has("grid") && !parseGridSize(args.get("grid"), &opt_options.grid.n_x_steps, &opt_options.grid.n_strips))
     return usageError(err, "--grid must be NX,NY (for example 200,16)", kReferenceUsage);
   const std::string dir = args.get("out-dir", "docs/figures");
   try {

@@ -1,5 +1,6 @@
 #include "tread_wear/core/cli_tools.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -27,7 +28,7 @@ constexpr int kExitUsage = 2;
 
 const char* const kEvalUsage =
     "usage: tread_wear_eval --params FILE [--orientation literal|flipped] [--preset fast|standard|reference]\n"
-    "                       CONDITIONS.csv|-\n"
+    "                       [--grid NXxNS] CONDITIONS.csv|-\n"
     "Evaluates the brush wear model (paper Eqs 6-20) at each row of a conditions CSV (or stdin for '-') and\n"
     "writes CSV to stdout: the input columns, then fx_n, fy_n, mz_nm, wear_rate_kg_per_m, wear_rate_kg_per_s,\n"
     "stick_fraction, slide_fraction, exact_stick_fraction.\n"
@@ -37,6 +38,9 @@ const char* const kEvalUsage =
     "  --orientation X      literal (default): path curvature as given; flipped: curvature negated\n"
     "  --preset NAME        fast or standard (default): the brush marcher at that grid; reference: the\n"
     "                       independent CVODE reference solver (tens of ms per row)\n"
+    "  --grid NXxNS         instead of a preset: the brush marcher with NX x-steps and NS lateral strips (e.g.\n"
+    "                       3200x16), otherwise the reference preset's options (grading 0.8, sine midpoints,\n"
+    "                       3 turn-slip passes, root tolerance 1e-7); for grid-convergence studies\n"
     "Speeds below 0.1 m/s use the low-speed convention of WearModel (wear_model.h). A bad row stops the run\n"
     "with an error naming the row and column; then nothing is written to stdout.\n";
 
@@ -69,10 +73,19 @@ const char* orientationName(TurnSlipOrientation orientation) {
 }
 
 /// The model of a preset: the marcher (WearModel) for fast and standard; for reference the independent CVODE
-/// solver (reference_solver.h) at its default tolerances, with WearModel's low-speed convention (wear_model.h).
+/// solver (reference_solver.h) at its default tolerances; for a custom grid (--grid) the marcher at that grid.
+/// All with WearModel's low-speed convention (wear_model.h: speed and rolling-speed floors).
 class PresetModel {
  public:
-  PresetModel(const TireParams& params, const WearModelOptions& options) : marcher_(params, options) {
+  /// With a grid, the marcher at that grid and the reference preset's other options (the --grid option).
+  PresetModel(const TireParams& params, const WearModelOptions& options, const GridSpec* grid = nullptr)
+      : marcher_(params, options) {
+    if (grid != nullptr) {
+      BrushOptions brush = presetOptions(Preset::kReference, options.orientation);
+      brush.grid = *grid;
+      custom_ = std::make_unique<BrushWearModel>(params, brush);
+      return;
+    }
     if (options.preset != Preset::kReference) return;
     ReferenceSolverOptions reference_options;
     reference_options.orientation = options.orientation;
@@ -80,16 +93,21 @@ class PresetModel {
   }
 
   EvalStatus evaluate(const OperatingPoint& op, WearResult* result) {
-    if (!reference_) return marcher_.evaluate(op, result);
+    if (!reference_ && !custom_) return marcher_.evaluate(op, result);
     if (!op.validate(nullptr)) return EvalStatus::kInvalidInput;
     const double min_speed_mps = marcher_.options().min_speed_mps;
-    if (op.speed_mps >= min_speed_mps) {
-      reference_->evaluate(op, result);
-      return EvalStatus::kOk;
-    }
     OperatingPoint slow = op;
-    slow.speed_mps = min_speed_mps;
-    reference_->evaluate(slow, result);
+    slow.speed_mps = std::max(op.speed_mps, min_speed_mps);
+    // WearModel's floor on the rolling speed (locked wheel), so that every path shares its low-speed convention.
+    const double min_rolling_speed_mps = marcher_.options().min_rolling_speed_mps;
+    const bool floored = slow.rollingSpeed() < min_rolling_speed_mps;
+    if (floored) slow.slip_ratio = min_rolling_speed_mps / slow.longitudinalSpeed() - 1.0;
+    if (custom_) {
+      custom_->evaluate(slow, result);
+    } else {
+      reference_->evaluate(slow, result);
+    }
+    if (op.speed_mps >= min_speed_mps && !floored) return EvalStatus::kOk;
     result->wear_rate_kg_per_s = result->wear_rate_kg_per_m * op.speed_mps;
     return EvalStatus::kLowSpeed;
   }
@@ -107,6 +125,7 @@ class PresetModel {
  private:
   WearModel marcher_;
   std::unique_ptr<ReferenceBrushSolver> reference_;
+  std::unique_ptr<BrushWearModel> custom_;
 };
 
 int usageError(std::ostream& err, const std::string& message, const char* usage) {
@@ -126,7 +145,7 @@ std::string fixed(double value, int decimals) {
 int runEvalCli(int argc, const char* const argv[], std::istream& in, std::ostream& out, std::ostream& err) {
   CommandLine args;
   std::string error;
-  if (!args.parse(argc, argv, {"params", "orientation", "preset"}, {}, &error, 1))
+  if (!args.parse(argc, argv, {"params", "orientation", "preset", "grid"}, {}, &error, 1))
     return usageError(err, error, kEvalUsage);
   if (args.help()) {
     out << kEvalUsage;
@@ -142,6 +161,14 @@ int runEvalCli(int argc, const char* const argv[], std::istream& in, std::ostrea
   if (args.has("preset") && !parsePreset(args.get("preset"), &options.preset))
     return usageError(err, "--preset must be fast, standard or reference, not '" + args.get("preset") + "'",
                       kEvalUsage);
+  GridSpec grid = presetOptions(Preset::kReference).grid;
+  const bool custom_grid = args.has("grid");
+  if (custom_grid) {
+    if (args.has("preset")) return usageError(err, "give either --preset or --grid", kEvalUsage);
+    if (!parseGridSize(args.get("grid"), &grid.n_x_steps, &grid.n_strips) || !grid.validate(&error))
+      return usageError(err, "--grid must be NXxNS with NX >= 4 x-steps and 1..256 strips, not '" +
+                                 args.get("grid") + "'", kEvalUsage);
+  }
   try {
     const TireParams params = loadTireParams(args.get("params"));
     const std::string& source = args.positional()[0];
@@ -156,7 +183,7 @@ int runEvalCli(int argc, const char* const argv[], std::istream& in, std::ostrea
       }
       table = readConditions(file, source);
     }
-    PresetModel model(params, options);
+    PresetModel model(params, options, custom_grid ? &grid : nullptr);
     std::vector<WearResult> results(table.points.size());
     for (std::size_t i = 0; i < table.points.size(); ++i) {
       const EvalStatus status = model.evaluate(table.points[i], &results[i]);

@@ -50,6 +50,12 @@ bool CommandLine::integer(const std::string& name, int* value, std::string* erro
   return false;
 }
 
+bool parseGridSize(const std::string& text, int* n_x_steps, int* n_strips) {
+  const std::size_t separator = text.find_first_of("x,");
+  return separator != std::string::npos && csv::parseInt(text.substr(0, separator), n_x_steps) &&
+         csv::parseInt(text.substr(separator + 1), n_strips);
+}
+
 std::vector<std::string> splitList(const std::string& text, char separator) {
   std::vector<std::string> items;
   std::stringstream stream(text);

@@ -77,3 +77,15 @@ TEST(CommandLine, SplitList) {
   EXPECT_EQ(tread_wear::splitList("a,b,,c"), (std::vector<std::string>{"a", "b", "c"}));
   EXPECT_TRUE(tread_wear::splitList("").empty());
 }
+
+TEST(CommandLine, GridSize) {
+  int nx = 0, ns = 0;
+  EXPECT_TRUE(tread_wear::parseGridSize("3200x16", &nx, &ns));
+  EXPECT_EQ(nx, 3200);
+  EXPECT_EQ(ns, 16);
+  EXPECT_TRUE(tread_wear::parseGridSize("400,24", &nx, &ns));
+  EXPECT_EQ(nx, 400);
+  EXPECT_EQ(ns, 24);
+  for (const char* bad : {"400", "400x", "x16", "400x16x2", "400x16 ", "a,b", "400;16"})
+    EXPECT_FALSE(tread_wear::parseGridSize(bad, &nx, &ns)) << bad;
+}

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "tread_wear/core/brush_wear_model.h"
 #include "tread_wear/core/load_binning.h"
 #include "tread_wear/core/params_io.h"
 #include "tread_wear/core/wear_model.h"
@@ -105,6 +106,32 @@ TEST_F(Cli, EvalMatchesTheModelAtFullPrecision) {
   EXPECT_GT(std::stod(rows[3][5]), 0.0);
   // Wear per time = W_r V (row 2: V = 10 m/s).
   EXPECT_DOUBLE_EQ(std::stod(rows[2][9]), 10.0 * std::stod(rows[2][8]));
+}
+
+TEST_F(Cli, GridOptionRunsTheMarcherAtThatGrid) {
+  // --grid NXxNS: the marcher at that grid with the reference preset's other options, and WearModel's low-speed
+  // convention (row 2: below min_speed_mps, evaluated there, wear per time with the true speed).
+  const std::string input = kHeader + "0.5,0,-0.2,0,150\n0.05,0.05,0,0,100\n";
+  const ToolRun r = run(eval("--grid 120x4 -"), input);
+  ASSERT_EQ(r.rc, 0) << r.err;
+  const auto rows = csvRows(r.out);
+  ASSERT_EQ(rows.size(), 3u);
+  BrushOptions options = presetOptions(Preset::kReference);
+  options.grid.n_x_steps = 120;
+  options.grid.n_strips = 4;
+  const BrushWearModel model(loadTireParams(kParams), options);
+  const OperatingPoint ops[2] = {{0.5, 0, -0.2, 0, 150}, {WearModelOptions().min_speed_mps, 0.05, 0, 0, 100}};
+  for (int i = 0; i < 2; ++i) {
+    WearResult expected;
+    model.evaluate(ops[i], &expected);
+    EXPECT_EQ(std::stod(rows[i + 1][5]), expected.fx_n) << "row " << i + 1;
+    EXPECT_EQ(std::stod(rows[i + 1][6]), expected.fy_n) << "row " << i + 1;
+    EXPECT_EQ(std::stod(rows[i + 1][8]), expected.wear_rate_kg_per_m) << "row " << i + 1;
+  }
+  EXPECT_DOUBLE_EQ(std::stod(rows[2][9]), 0.05 * std::stod(rows[2][8]));
+  EXPECT_NE(r.err.find("row 2"), std::string::npos) << "low-speed note expected: " << r.err;
+  for (const char* bad : {"--grid 3x8", "--grid 80", "--grid 80x0", "--grid 80x8x", "--grid 80x8 --preset fast"})
+    EXPECT_EQ(run(eval(std::string(bad) + " -"), input).rc, 2) << bad;
 }
 
 TEST_F(Cli, OrientationOnlyMattersOnACurvedPath) {

@@ -39,6 +39,9 @@ class CommandLine {
   bool help_ = false;
 };
 
+/// A grid size "NXxNS" or "NX,NS" (x steps, lateral strips) of the tools' --grid options; nothing else.
+bool parseGridSize(const std::string& text, int* n_x_steps, int* n_strips);
+
 /// The non-empty items of a separated list ("a,b,,c" -> a, b, c).
 std::vector<std::string> splitList(const std::string& text, char separator = ',');
 

@@ -24,6 +24,10 @@ class SavkoorFriction {
   double savkoor(double v_s_mps) const;
   /// d(savkoor)/d v_s [s/m].
   double savkoorDerivative(double v_s_mps) const;
+  /// Steepest velocity weakening max over v_s > v_m of -d(savkoor)/d v_s [s/m] (0 if mu_m <= mu_0 or h = 0).
+  /// With C = h^2/ln(10)^2 and l = ln(v_s/v_m) it is reached at l* = (sqrt(1 + 8 C) - 1)/(4 C), where
+  /// d/dl ln(l exp(-C l^2 - l)) = 0: (mu_m - mu_0) 2 C l* exp(-C l*^2) / (v_m exp(l*)).
+  double maxWeakeningSlope() const;
   /// Full coefficient mu(v_s, p) [-] (Eq 10).
   double coefficient(double v_s_mps, double p_pa) const { return saturation(p_pa) * savkoor(v_s_mps); }
   const FrictionParams& params() const { return params_; }
@@ -32,5 +36,13 @@ class SavkoorFriction {
   FrictionParams params_;
   double h2_over_ln10sq_ = 0.0;  ///< h^2 / ln(10)^2, so that h^2 log10^2(r) = this * ln^2(r)
 };
+
+/// Stability margin of steady sliding at vertical load Fz [N] (model spec, "Numerics"):
+///   min(c_x, c_y) / (sat(p) p max|d savkoor/d v_s|) at the peak pressure p of the patch [-].
+/// Linearised about steady sliding, an element obeys m u'' + (c - sat p dmu/dv_s) u' + k u = 0 along the slip
+/// direction; where the friction law weakens faster than the damper damps (margin < 1) steady sliding is
+/// unstable, elements stick-slip at about sqrt(k/m) and the marcher's results depend on its x grid (no grid of
+/// practical size resolves the cycles). sat(p) p grows with p and p with Fz, so the margin falls with load.
+double slidingStabilityMargin(const TireParams& params, double load_n);
 
 }  // namespace tread_wear
