@@ -53,7 +53,9 @@ TEST(ParameterRegistry, CoversTireParamsAndRoundTrips) {
   TireParams p;
   for (const ParameterInfo& info : parameterRegistry()) {
     EXPECT_LT(info.lower, info.upper) << info.name;
-    if (info.log_scale) EXPECT_GT(info.lower, 0.0) << info.name;
+    if (info.log_scale) {
+      EXPECT_GT(info.lower, 0.0) << info.name;
+    }
     const double v = getParameter(p, info.name);
     setParameter(&p, info.name, v * 1.5 + 1.0);
     EXPECT_DOUBLE_EQ(getParameter(p, info.name), v * 1.5 + 1.0) << info.name;
