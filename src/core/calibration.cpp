@@ -7,6 +7,7 @@
 #include "tread_wear/core/metrics.h"
 #include "tread_wear/core/run_comparison.h"
 #include "tread_wear/core/validation.h"
+#include "tread_wear/core/wear_model.h"
 
 namespace tread_wear {
 namespace {
@@ -313,7 +314,7 @@ nlohmann::json calibrationToJson(const CalibrationResult& result) {
   const LeastSquaresSummary& s = result.summary;
   json j;
   j["target"] = targetName(result.target);
-  j["orientation"] = result.options.orientation == TurnSlipOrientation::kLiteral ? "literal" : "flipped";
+  j["orientation"] = orientationName(result.options.orientation);
   j["grid"] = {{"n_x_steps", result.options.grid.n_x_steps}, {"n_strips", result.options.grid.n_strips},
                {"turn_slip_iterations", result.options.turn_slip_iterations}};
   j["prior_weight"] = result.options.prior_weight;

@@ -15,6 +15,7 @@
 #include "tread_wear/core/reference_models.h"
 #include "tread_wear/core/run_table.h"
 #include "tread_wear/core/wear_characteristics.h"
+#include "tread_wear/core/wear_model.h"
 #include "tread_wear/core/metrics.h"
 
 namespace tread_wear {
@@ -59,12 +60,6 @@ int usageError(std::ostream& err, const std::string& message, const char* usage)
   return kExitUsage;
 }
 
-bool parseOrientationName(const std::string& text, TurnSlipOrientation* orientation) {
-  if (text != "literal" && text != "flipped") return false;
-  *orientation = text == "literal" ? TurnSlipOrientation::kLiteral : TurnSlipOrientation::kFlipped;
-  return true;
-}
-
 std::string percent(double fraction) {
   if (!std::isfinite(fraction)) return "-";
   char buffer[32];
@@ -98,7 +93,7 @@ int runCalibrateCli(int argc, const char* const argv[], std::ostream& out, std::
   }
   if (args.has("target") && !parseTarget(args.get("target"), &options.target))
     return usageError(err, "--target must be auto, side_force, wear or both", kCalibrateUsage);
-  if (args.has("orientation") && !parseOrientationName(args.get("orientation"), &options.orientation))
+  if (args.has("orientation") && !parseOrientation(args.get("orientation"), &options.orientation))
     return usageError(err, "--orientation must be literal or flipped, not '" + args.get("orientation") + "'",
                       kCalibrateUsage);
   const std::pair<const char*, double*> numbers[] = {{"prior-weight", &options.prior_weight},
@@ -117,7 +112,7 @@ int runCalibrateCli(int argc, const char* const argv[], std::ostream& out, std::
     const CalibrationResult result = calibrate(initial, runs, options);
     out << "calibration of " << initial.name << " to " << args.get("runs") << " (" << runs.runs.size()
         << " runs), target " << targetName(result.target) << ", orientation "
-        << (options.orientation == TurnSlipOrientation::kLiteral ? "literal" : "flipped") << "\n"
+        << orientationName(options.orientation) << "\n"
         << result.summary.report() << "RMSER side force: initial " << percent(result.initial.rmser_side_force)
         << ", fitted " << percent(result.fitted.rmser_side_force) << ", leave-one-condition-out "
         << percent(result.cross_validated.rmser_side_force) << "\nRMSER wear rate:  initial "
@@ -134,7 +129,7 @@ int runCalibrateCli(int argc, const char* const argv[], std::ostream& out, std::
       comment << "Calibrated by tread_wear_calibrate: fit " << args.get("runs") << ", parameters";
       for (const std::string& n : options.fit) comment << " " << n;
       comment << ", target " << targetName(result.target) << ", orientation "
-              << (options.orientation == TurnSlipOrientation::kLiteral ? "literal" : "flipped") << ", RMSER Fy "
+              << orientationName(options.orientation) << ", RMSER Fy "
               << percent(result.fitted.rmser_side_force) << " (LOO " << percent(result.cross_validated.rmser_side_force)
               << "), W_r " << percent(result.fitted.rmser_wear) << " (LOO "
               << percent(result.cross_validated.rmser_wear) << ")";
@@ -173,7 +168,7 @@ int runWearCharacteristicsCli(int argc, const char* const argv[], std::ostream& 
   if (!args.has("params")) return usageError(err, "--params is required", kCharacteristicsUsage);
   CharacteristicsOptions options;
   if (args.has("orientation") &&
-      !parseOrientationName(args.get("orientation"), &options.brush.orientation))
+      !parseOrientation(args.get("orientation"), &options.brush.orientation))
     return usageError(err, "--orientation must be literal or flipped", kCharacteristicsUsage);
   const std::string dir = args.get("out-dir", "docs/figures");
   try {
@@ -215,7 +210,7 @@ int runReferenceModelsCli(int argc, const char* const argv[], std::ostream& out,
     if (!args.has(required))
       return usageError(err, std::string("--") + required + " is required", kReferenceUsage);
   CalibrationOptions opt_options;
-  if (args.has("orientation") && !parseOrientationName(args.get("orientation"), &opt_options.orientation))
+  if (args.has("orientation") && !parseOrientation(args.get("orientation"), &opt_options.orientation))
     return usageError(err, "--orientation must be literal or flipped", kReferenceUsage);
   if (args.has("grid") && !parseGridSize(args.get("grid"), &opt_options.grid.n_x_steps, &opt_options.grid.n_strips))
     return usageError(err, "--grid must be NX,NY (for example 200,16)", kReferenceUsage);
@@ -227,7 +222,7 @@ int runReferenceModelsCli(int argc, const char* const argv[], std::ostream& out,
     for (const RunRecord& r : runs.runs) temperatures = temperatures && std::isfinite(r.op.tread_temperature_c);
 
     nlohmann::json j;
-    j["orientation"] = opt_options.orientation == TurnSlipOrientation::kLiteral ? "literal" : "flipped";
+    j["orientation"] = orientationName(opt_options.orientation);
     j["side_force_input"] = "measured mean side force per run (one Eq 23 bin; the paper bins recorded samples)";
     j["temperatures_available"] = temperatures;
     const CalibrationResult opt = calibrate(params, runs, opt_options);

@@ -57,21 +57,6 @@ const char* const kCompareUsage =
     "                       independent CVODE reference solver (reference_solver.h)\n"
     "  --csv OUT.csv        also write the per-run comparison in SI to OUT.csv\n";
 
-bool parseOrientation(const std::string& text, TurnSlipOrientation* orientation) {
-  if (text == "literal") {
-    *orientation = TurnSlipOrientation::kLiteral;
-  } else if (text == "flipped") {
-    *orientation = TurnSlipOrientation::kFlipped;
-  } else {
-    return false;
-  }
-  return true;
-}
-
-const char* orientationName(TurnSlipOrientation orientation) {
-  return orientation == TurnSlipOrientation::kLiteral ? "literal" : "flipped";
-}
-
 /// The model of a preset: the marcher (WearModel) for fast and standard; for reference the independent CVODE
 /// solver (reference_solver.h) at its default tolerances; for a custom grid (--grid) the marcher at that grid.
 /// All with WearModel's low-speed convention (wear_model.h: speed and rolling-speed floors).

@@ -12,6 +12,7 @@
 #include "tread_wear/core/params_io.h"
 #include "tread_wear/core/reference_solver.h"
 #include "tread_wear/core/units.h"
+#include "tread_wear/core/wear_model.h"
 
 namespace tread_wear {
 
@@ -76,7 +77,6 @@ MaxErrors maxErrors(const Sample& s, const Sample& ref) {
   return e;
 }
 
-const char* orientationName(TurnSlipOrientation o) { return o == TurnSlipOrientation::kLiteral ? "literal" : "flipped"; }
 
 void study(const TireParams& params, TurnSlipOrientation orientation, bool quick, bool extended, std::ostream& out) {
   const std::vector<OperatingPoint> points = table3RigConditions();

@@ -17,13 +17,6 @@ namespace tread_wear {
 namespace diagnosis {
 namespace {
 
-bool parseOrientation(const std::string& s, TurnSlipOrientation* o) {
-  if (s == "literal") *o = TurnSlipOrientation::kLiteral;
-  else if (s == "flipped") *o = TurnSlipOrientation::kFlipped;
-  else return false;
-  return true;
-}
-
 /// Applies the options shared by the tools to the model options; returns a usage error or "".
 std::string modelOptions(const CommandLine& a, ExtendedModelOptions* m) {
   if (a.has("orientation") && !parseOrientation(a.get("orientation"), &m->orientation))

@@ -26,6 +26,20 @@ bool parsePreset(const std::string& name, Preset* preset) {
   return false;
 }
 
+const char* orientationName(TurnSlipOrientation orientation) {
+  return orientation == TurnSlipOrientation::kLiteral ? "literal" : "flipped";
+}
+
+bool parseOrientation(const std::string& name, TurnSlipOrientation* orientation) {
+  for (TurnSlipOrientation o : {TurnSlipOrientation::kLiteral, TurnSlipOrientation::kFlipped}) {
+    if (name == orientationName(o)) {
+      *orientation = o;
+      return true;
+    }
+  }
+  return false;
+}
+
 BrushOptions presetOptions(Preset preset, TurnSlipOrientation orientation) {
   BrushOptions o;
   o.orientation = orientation;

@@ -78,15 +78,10 @@ bool NodeConfig::load(const ros::NodeHandle& pnh, NodeConfig* c, std::string* er
   std::string preset = presetName(cfg.preset);
   pnh.param("preset", preset, preset);
   if (!parsePreset(preset, &cfg.preset)) return fail(error, "preset", preset, "fast, standard or reference");
-  std::string orientation = "literal";
+  std::string orientation = orientationName(cfg.orientation);
   pnh.param("turn_slip_orientation", orientation, orientation);
-  if (orientation == "literal") {
-    cfg.orientation = TurnSlipOrientation::kLiteral;
-  } else if (orientation == "flipped") {
-    cfg.orientation = TurnSlipOrientation::kFlipped;
-  } else {
+  if (!parseOrientation(orientation, &cfg.orientation))
     return fail(error, "turn_slip_orientation", orientation, "literal or flipped");
-  }
   pnh.param("min_speed_mps", cfg.min_speed_mps, cfg.min_speed_mps);
   WheelEstimatorParams& e = cfg.estimator;
   pnh.param("stale_timeout_s", e.stale_timeout_s, e.stale_timeout_s);
@@ -155,7 +150,7 @@ std::string NodeConfig::describe() const {
     << "marker_rate_hz: " << marker_rate_hz << " [Hz]\n"
     << "budget_us: " << budget_us << " [us] (0 = no budget)\n"
     << "preset: " << presetName(preset) << "\n"
-    << "turn_slip_orientation: " << (orientation == TurnSlipOrientation::kLiteral ? "literal" : "flipped") << "\n"
+    << "turn_slip_orientation: " << orientationName(orientation) << "\n"
     << "min_speed_mps: " << min_speed_mps << " [m/s]\n"
     << "stale_timeout_s: " << estimator.stale_timeout_s << " [s]\n"
     << "max_step_s: " << estimator.max_step_s << " [s]\n"

@@ -231,5 +231,19 @@ TEST(WearModelPresets, NamesRoundTripAndUnknownIsRejected) {
   EXPECT_EQ(untouched, Preset::kStandard);
 }
 
+TEST(TurnSlipOrientationNames, LiteralAndFlippedOnly) {
+  TurnSlipOrientation o = TurnSlipOrientation::kLiteral;
+  EXPECT_TRUE(parseOrientation("flipped", &o));
+  EXPECT_EQ(o, TurnSlipOrientation::kFlipped);
+  EXPECT_STREQ(orientationName(o), "flipped");
+  EXPECT_TRUE(parseOrientation("literal", &o));
+  EXPECT_EQ(o, TurnSlipOrientation::kLiteral);
+  EXPECT_STREQ(orientationName(o), "literal");
+  for (const char* bad : {"both", "Literal", ""}) {
+    EXPECT_FALSE(parseOrientation(bad, &o)) << bad;
+    EXPECT_EQ(o, TurnSlipOrientation::kLiteral) << "untouched";
+  }
+}
+
 }  // namespace
 }  // namespace tread_wear

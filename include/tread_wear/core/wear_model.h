@@ -37,6 +37,10 @@ enum class Preset { kFast = 0, kStandard = 1, kReference = 2 };
 const char* presetName(Preset preset);
 /// Parses a preset name; false (and *preset untouched) for an unknown name.
 bool parsePreset(const std::string& name, Preset* preset);
+/// "literal" or "flipped": the one spelling of the turn-slip orientation in configuration files and tools.
+const char* orientationName(TurnSlipOrientation orientation);
+/// Parses an orientation name; false (and *orientation untouched) for an unknown name.
+bool parseOrientation(const std::string& name, TurnSlipOrientation* orientation);
 /// Grid and solver options of a preset.
 BrushOptions presetOptions(Preset preset, TurnSlipOrientation orientation = TurnSlipOrientation::kLiteral);
 

@@ -93,9 +93,8 @@ ReplayConfig loadReplayConfig(const std::string& path) {
       throw fail("preset '" + root["preset"].as<std::string>() + "' is not fast, standard or reference");
     if (root["turn_slip_orientation"]) {
       const std::string o = root["turn_slip_orientation"].as<std::string>();
-      if (o == "literal") s.model.orientation = TurnSlipOrientation::kLiteral;
-      else if (o == "flipped") s.model.orientation = TurnSlipOrientation::kFlipped;
-      else throw fail("turn_slip_orientation '" + o + "' is not literal or flipped");
+      if (!parseOrientation(o, &s.model.orientation))
+        throw fail("turn_slip_orientation '" + o + "' is not literal or flipped");
     }
     s.model.min_speed_mps = number<double>(root, "min_speed_mps", s.model.min_speed_mps);
     s.estimator.stale_timeout_s = number<double>(root, "stale_timeout_s", s.estimator.stale_timeout_s);
