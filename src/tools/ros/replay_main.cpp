@@ -8,13 +8,14 @@
 #include <cmath>
 #include <cstdio>
 #include <ctime>
-#include <cstdlib>
 #include <exception>
 #include <fstream>
 #include <string>
 #include <thread>
+#include <utility>
 
 #include "bag_io.h"
+#include "tread_wear/core/command_line.h"
 
 namespace {
 
@@ -91,48 +92,38 @@ void showProgress(const std::atomic<std::uint64_t>& done, std::uint64_t total, c
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string in, out, summary_path, timeseries_path, preset_name;
-  std::string wheels_path = std::string(TREAD_WEAR_SHARE_DIR) + "/config/vehicle_wheels.yaml";
-  double rate_hz = 0.0, out_rate_hz = 0.0, timeseries_rate_hz = 1.0;
-  int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  bool quiet = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const bool has_value = i + 1 < argc;
-    if (arg == "--help" || arg == "-h") {
-      std::fputs(kUsage, stdout);
-      return 0;
-    } else if (arg == "--out" && has_value) {
-      out = argv[++i];
-    } else if (arg == "--summary" && has_value) {
-      summary_path = argv[++i];
-    } else if (arg == "--timeseries" && has_value) {
-      timeseries_path = argv[++i];
-    } else if (arg == "--preset" && has_value) {
-      preset_name = argv[++i];
-    } else if (arg == "--wheels" && has_value) {
-      wheels_path = argv[++i];
-    } else if (arg == "--rate-hz" && has_value) {
-      rate_hz = std::atof(argv[++i]);
-    } else if (arg == "--out-rate-hz" && has_value) {
-      out_rate_hz = std::atof(argv[++i]);
-    } else if (arg == "--timeseries-rate-hz" && has_value) {
-      timeseries_rate_hz = std::atof(argv[++i]);
-    } else if (arg == "--threads" && has_value) {
-      threads = std::atoi(argv[++i]);
-    } else if (arg == "--quiet") {
-      quiet = true;
-    } else if (in.empty() && !arg.empty() && arg[0] != '-') {
-      in = arg;
-    } else {
-      std::fprintf(stderr, "tread_wear_replay: unknown or incomplete argument '%s'\n%s", arg.c_str(), kUsage);
-      return 2;
-    }
-  }
-  if (in.empty()) {
-    std::fprintf(stderr, "tread_wear_replay: the input bag is required\n%s", kUsage);
+  auto usage_error = [](const std::string& message) {
+    std::fprintf(stderr, "tread_wear_replay: %s\n%s", message.c_str(), kUsage);
     return 2;
+  };
+  tread_wear::CommandLine args;
+  std::string error;
+  if (!args.parse(argc, argv,
+                  {"out", "summary", "timeseries", "preset", "wheels", "rate-hz", "out-rate-hz", "timeseries-rate-hz",
+                   "threads"},
+                  {"quiet"}, &error, 1))
+    return usage_error(error);
+  if (args.help()) {
+    std::fputs(kUsage, stdout);
+    return 0;
   }
+  double rate_hz = 0.0, out_rate_hz = 0.0, timeseries_rate_hz = 1.0;  // 0 = the configuration's / every update
+  int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  if (!args.number("rate-hz", &rate_hz, &error) || !args.number("out-rate-hz", &out_rate_hz, &error) ||
+      !args.number("timeseries-rate-hz", &timeseries_rate_hz, &error) || !args.integer("threads", &threads, &error))
+    return usage_error(error);
+  if (args.positional().empty()) return usage_error("the input bag is required");
+  const std::pair<const char*, double> rates[] = {
+      {"rate-hz", rate_hz}, {"out-rate-hz", out_rate_hz}, {"timeseries-rate-hz", timeseries_rate_hz}};
+  for (const auto& [name, value] : rates)
+    if (args.has(name) && !(value > 0.0)) return usage_error(std::string("--") + name + " must be > 0");
+  if (threads < 1) return usage_error("--threads must be >= 1");
+  tread_wear::Preset preset = tread_wear::Preset::kStandard;
+  if (args.has("preset") && !tread_wear::parsePreset(args.get("preset"), &preset))
+    return usage_error("--preset must be fast, standard or reference, not '" + args.get("preset") + "'");
+  const std::string in = args.positional()[0], out = args.get("out"), summary_path = args.get("summary");
+  const std::string timeseries_path = args.get("timeseries");
+  const std::string wheels_path = args.get("wheels", std::string(TREAD_WEAR_SHARE_DIR) + "/config/vehicle_wheels.yaml");
   try {
     // A failed run must never leave an earlier summary that looks complete.
     writeSummary(summary_path, {{"format", "tread_wear_replay_summary"}, {"version", 1}, {"complete", false},
@@ -140,9 +131,8 @@ int main(int argc, char** argv) {
     ros::Time::init();
     tread_wear::ReplayConfig config = tread_wear::loadReplayConfig(wheels_path);
     if (rate_hz > 0.0) config.settings.update_rate_hz = rate_hz;
-    if (!preset_name.empty() && !tread_wear::parsePreset(preset_name, &config.settings.model.preset))
-      throw std::runtime_error("--preset '" + preset_name + "' is not fast, standard or reference");
-    config.settings.threads = std::max(1, threads);
+    if (args.has("preset")) config.settings.model.preset = preset;
+    config.settings.threads = threads;
     tread_wear::DriveReplay replay(config.settings, config.wheels);
     const auto read_start = std::chrono::steady_clock::now();
     const tread_wear::DriveInfo info = tread_wear::readDriveBag(in, config, &replay);
@@ -152,7 +142,7 @@ int main(int argc, char** argv) {
     std::atomic<std::uint64_t> done{0};
     std::atomic<bool> finished{false};
     std::thread bar;
-    if (!quiet) bar = std::thread(showProgress, std::cref(done), replay.steps() * replay.wheelCount(), std::cref(finished));
+    if (!args.has("quiet")) bar = std::thread(showProgress, std::cref(done), replay.steps() * replay.wheelCount(), std::cref(finished));
     replay.run(&done);
     const double cpu_s = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
     finished = true;
@@ -171,7 +161,7 @@ int main(int argc, char** argv) {
     }
     if (!timeseries_path.empty()) {
       const auto window = static_cast<std::uint64_t>(
-          std::llround(std::max(1.0, config.settings.update_rate_hz / std::max(timeseries_rate_hz, 1e-9))));
+          std::llround(std::max(1.0, config.settings.update_rate_hz / timeseries_rate_hz)));
       writeTimeseries(timeseries_path, replay, window, info.time_offset_s);
     }
     writeSummary(summary_path, json);
