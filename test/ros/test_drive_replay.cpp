@@ -50,11 +50,11 @@ struct RunResult {
   nlohmann::json summary;
 };
 
-RunResult runReplay(const std::string& bag, const std::string& tag) {
+RunResult runReplay(const std::string& bag, const std::string& tag, const std::string& options = "") {
   const std::string summary = tempPath(tag + "_summary.json");
   std::remove(summary.c_str());
-  const std::string cmd = std::string(TREAD_WEAR_REPLAY_BINARY) + " " + bag + " --quiet --summary " + summary +
-                          " > " + tempPath(tag + ".log") + " 2>&1";
+  const std::string cmd = std::string(TREAD_WEAR_REPLAY_BINARY) + " " + bag + " --quiet --summary " + summary + " " +
+                          options + " > " + tempPath(tag + ".log") + " 2>&1";
   const int status = std::system(cmd.c_str());
   RunResult r{WEXITSTATUS(status), nlohmann::json()};
   std::ifstream in(summary);
@@ -140,6 +140,23 @@ TEST(DriveReplay, ToolWritesACompleteSummaryForAGoodBag) {
     EXPECT_TRUE(w.contains("name"));
   }
   EXPECT_EQ(r.summary.at("phases").size(), 2u);
+}
+
+// A malformed command line is a usage error (exit 2) that names the option; nothing is replayed.
+TEST(DriveReplay, BadOptionsAreUsageErrors) {
+  const std::string bag = tempPath("never_read.bag");
+  const std::pair<const char*, const char*> cases[] = {
+      {"--threads x", "--threads must be an integer, not 'x'"},
+      {"--rate-hz -50", "--rate-hz must be > 0"},
+      {"--rate-hz fifty", "--rate-hz must be a number, not 'fifty'"},
+      {"--preset ultra", "--preset must be fast, standard or reference, not 'ultra'"},
+      {"--colour red", "unknown option '--colour'"},
+      {"second.bag", "unexpected argument 'second.bag'"}};
+  for (const auto& [options, message] : cases) {
+    const RunResult r = runReplay(bag, "usage", options);
+    EXPECT_EQ(r.exit_code, 2) << options;
+    EXPECT_NE(log("usage").find(message), std::string::npos) << log("usage");
+  }
 }
 
 TEST(DriveReplay, MissingFileFails) {
