@@ -3,8 +3,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <map>
-#include <sstream>
 
 #include "tread_wear/core/command_line.h"
 #include "tread_wear/core/csv.h"
