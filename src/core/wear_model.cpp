@@ -37,9 +37,11 @@ BrushOptions presetOptions(Preset preset, TurnSlipOrientation orientation) {
       o.root_tolerance = 3e-2;
       break;
     case Preset::kStandard:
-      o.grid = {80, 8, 0.9, LateralRule::kGaussLegendre};
+      o.grid = {60, 12, 0.9, LateralRule::kGaussShoulderPanels};
       o.turn_slip_iterations = 1;
       o.root_tolerance = 1e-2;
+      // Substeps for stick-slip bursts; the budget (3x the 720 grid nodes) bounds the worst case.
+      o.refinement = {3, 2160, 0.5, 1.0};
       break;
     case Preset::kReference:
       o.grid = {1600, 64, 0.8, LateralRule::kSineMidpoint};
