@@ -39,7 +39,7 @@ BrushOptions presetOptions(Preset preset, TurnSlipOrientation orientation) {
     case Preset::kStandard:
       o.grid = {60, 12, 0.9, LateralRule::kGaussShoulderPanels};
       o.turn_slip_iterations = 1;
-      o.root_tolerance = 1e-2;
+      o.root_tolerance = 3e-2;
       // Substeps for stick-slip bursts; the budget (3x the 720 grid nodes) bounds the worst case.
       o.refinement = {3, 2160, 0.5, 1.0};
       break;
