@@ -584,6 +584,7 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
     double sat_x;
     const double px = pressureX(s_[i + 1], gx_even_[i + 1], &sat_x);
     const double wxa = wx_[i + 1] * a * b;
+    const bool edge_step = i == 0 || i == n - 1;
     // Sums over strips of the node values (weight wx) and of the corrections of refined steps (x/a units).
     double fx_i = 0.0, fy_i = 0.0, mz_y = 0.0, wear_i = 0.0, stick_i = 0.0, exact_i = 0.0;
     double cfx = 0.0, cfy = 0.0, cmz = 0.0, cwear = 0.0, cstick = 0.0, cexact = 0.0;
@@ -646,25 +647,27 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
         cexact += w * (iex - hds * (before.exact + ex1));
         e.refined = true;
         e.ds = dss;
-      } else {
+      } else if (initial_budget > 0) {
         e.refined = false;
         e.ds = sp.ds;
       }
-      e.tx = o.tx;
-      e.ty = o.ty;
+      const double stick = o.s <= v_m ? 1.0 : 0.0, exact = o.stuck ? 1.0 : 0.0;
       e.wt = o.wt;
-      e.stick = o.s <= v_m ? 1.0 : 0.0;
-      e.exact = o.stuck ? 1.0 : 0.0;
+      if (initial_budget > 0) {  // node values for the trapezoid correction of a later refined step
+        e.tx = o.tx;
+        e.ty = o.ty;
+        e.stick = stick;
+        e.exact = exact;
+      }
       // p vanishes linearly at x = +-a, so the sliding wear ~ tau^w1 ~ p^w1 has an endpoint singularity
       // there: on the interval next to an edge its integral is h f/(1 + w1), not the trapezoid's h f/2.
-      if (i == 0) cwear += w * edge_weight * edge_ds * (wt_lead - w4);
-      if (i == n - 1) cwear += w * edge_weight * edge_ds * (wt_trail - w4);
+      if (edge_step) cwear += w * edge_weight * edge_ds * ((i == 0 ? wt_lead : wt_trail) - w4);
       fx_i += o.tx * w;
       fy_i += o.ty * w;
       if (!mirror) mz_y += y * o.tx * w;
       wear_i += o.wt * w;
-      stick_i += e.stick * w;
-      exact_i += e.exact * w;
+      stick_i += stick * w;
+      exact_i += exact * w;
       if (fields) store(i + 1, j, o);
     }
     const double ab = a * b;
