@@ -93,7 +93,8 @@ struct RefinementOptions {
   int max_level = 0;              ///< at most 2^max_level substeps per x step [-], 0..kMaxLevel
   int node_budget = 0;            ///< substep nodes allowed per evaluation, bounds the extra work [-]
   double resolution = 0.5;        ///< target rate * substep duration [-]
-  double damping_ratio = 1.0;     ///< refine below this ratio of effective to critical damping [-]
+  double damping_ratio = 0.0;     ///< refine below this ratio of effective to critical damping [-]
+                                  ///< (0: only unstable sliding, c + d(mu p)/d|v_s| < 0)
 
   bool validate(std::string* error) const;
 };
