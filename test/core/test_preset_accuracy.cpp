@@ -109,8 +109,8 @@ TEST(PresetAccuracy, StandardImprovesOnFastForWearOnTheRig) {
 // Local step refinement (BrushOptions::refinement) at the stick-slip condition of the road grid (Grosch
 // wheel, Fz 150 N, straight, kappa -0.2, V 0.5 m/s): sliding just above v_m on the velocity-weakening
 // branch makes the elements slip in bursts much shorter than an x step (docs/performance.md).
-// Measured against the fine reference: the standard grid without refinement is off by 17.8% in W_r and
-// 0.065 in the stick fraction; the standard preset (refining only unstable sliding, damping ratio 0)
+// Measured against the fine reference: the standard grid without refinement is off by 17.7% in W_r and
+// 0.067 in the stick fraction; the standard preset (refining only unstable sliding, damping ratio 0)
 // by 7.6% and 0.025; refining all sliding below critical damping (damping ratio 1) by 2.4% and 0.003.
 // Asserted: each step of refinement at least halves the W_r error, and the fuller one meets the issue's
 // stick-fraction bound (0.02) and W_r within 2.5%; the substeps stay within the node budget, and a
