@@ -1,7 +1,7 @@
 // Measured error bounds of the fast and standard presets (docs/performance.md) hold on a modest grid
 // of conditions against the fine reference: the marcher's 'reference' preset (1600 x 64), which agrees
-// with the CVODE ReferenceBrushSolver within 0.03% (Fx, Fy) and 0.2% (Mz, W_r) on these grids
-// (docs/performance.md). The bounds are the whole-grid maxima of the accuracy study, rounded up; the
+// with the CVODE ReferenceBrushSolver within 0.02% on the rig grid and within 0.18% (Fx, Fy), 1.9% (Mz),
+// 0.8% (W_r) and 0.008 (fractions) on the road grid (docs/performance.md). The bounds are the whole-grid maxima of the accuracy study, rounded up; the
 // grid here is the Table 3 rig set plus a road subset that contains the study's worst conditions.
 // Error scales (bench/bench_conditions.h, restated): F relative to max(|F_ref|, 0.05 |F_ref vector|,
 // 0.005 Fz); Mz relative to max(|Mz_ref|, a times that force floor); W_r relative; fractions absolute.
