@@ -1,13 +1,20 @@
 /// Accuracy table of the wear-model presets against a fine reference (docs/performance.md).
-///   tread_wear_accuracy [--reference marcher|cvode] [--road-params FILE] [--coarse]
-///                       [--grid NX NY GRADING sine|gauss PASSES TOL]...
+///   tread_wear_accuracy [--reference marcher|cvode] [--road-params FILE] [--coarse] [--time]
+///                       [--refine LEVEL BUDGET RESOLUTION DAMPING_RATIO]
+///                       [--grid NX NY GRADING sine|gauss|panels PASSES TOL]...
 /// Prints, for each preset (and each --grid candidate), the maximum error over the Table 3 rig grid
 /// (Grosch wheel, both orientations) and the road grid, with the worst condition. The reference is
 /// the marcher's 'reference' preset (default) or ReferenceBrushSolver (CVODE, default options); where
 /// the CVODE solver throws, that condition falls back to the marcher reference and is counted.
+/// --refine sets BrushOptions::refinement of the --grid candidates that follow it (default: off).
+/// --time adds, per candidate and grid, the median and p99 over the conditions of the thread CPU time
+/// of one evaluation (minimum of 5 repetitions per condition, which filters out most of the noise of a
+/// shared machine; tread_wear_bench gives the percentiles over all samples).
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -26,15 +33,27 @@ struct Candidate {
   BrushOptions options;
 };
 
+double threadCpuSeconds() {
+  timespec ts;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+/// Evaluates every condition; with cpu_us, also its minimum thread CPU time over 5 repetitions [us].
 std::vector<WearResult> evaluateAll(const TireParams& params, const BrushOptions& base,
-                                    const std::vector<bench::Condition>& conditions) {
+                                    const std::vector<bench::Condition>& conditions, std::vector<double>* cpu_us = nullptr) {
   BrushOptions lit = base, flip = base;
   lit.orientation = TurnSlipOrientation::kLiteral;
   flip.orientation = TurnSlipOrientation::kFlipped;
   const BrushWearModel m_lit(params, lit), m_flip(params, flip);
   std::vector<WearResult> out(conditions.size());
-  for (size_t k = 0; k < conditions.size(); ++k)
-    (conditions[k].orientation == TurnSlipOrientation::kLiteral ? m_lit : m_flip).evaluate(conditions[k].op, &out[k]);
+  if (cpu_us) cpu_us->assign(conditions.size(), 1e30);
+  for (int rep = 0; rep < (cpu_us ? 5 : 1); ++rep)
+    for (size_t k = 0; k < conditions.size(); ++k) {
+      const double t0 = threadCpuSeconds();
+      (conditions[k].orientation == TurnSlipOrientation::kLiteral ? m_lit : m_flip).evaluate(conditions[k].op, &out[k]);
+      if (cpu_us) (*cpu_us)[k] = std::min((*cpu_us)[k], 1e6 * (threadCpuSeconds() - t0));
+    }
   return out;
 }
 
@@ -57,7 +76,7 @@ std::vector<WearResult> cvodeAll(const TireParams& params, const std::vector<ben
 }
 
 void report(const std::string& name, const std::string& set, const std::vector<bench::Condition>& conditions,
-            const std::vector<WearResult>& ref, const std::vector<WearResult>& res) {
+            const std::vector<WearResult>& ref, const std::vector<WearResult>& res, std::vector<double> cpu_us) {
   bench::Errors worst;
   size_t worst_k[3] = {0, 0, 0};
   double worst_v[3] = {0, 0, 0};
@@ -69,9 +88,17 @@ void report(const std::string& name, const std::string& set, const std::vector<b
     for (int q = 0; q < 3; ++q)
       if (v[q] > worst_v[q]) worst_v[q] = v[q], worst_k[q] = k;
   }
-  std::printf("%-28s %-5s %7.3f%% %7.3f%% %7.3f%% %7.3f%% %7.4f %7.4f | worst F: %s | worst W: %s\n", name.c_str(),
+  std::string timing;
+  if (!cpu_us.empty()) {
+    std::sort(cpu_us.begin(), cpu_us.end());
+    char buf[64];
+    std::snprintf(buf, sizeof(buf), " | cpu median %.1f us, p99 %.1f us", cpu_us[cpu_us.size() / 2],
+                  cpu_us[std::min(cpu_us.size() - 1, static_cast<size_t>(0.99 * cpu_us.size()))]);
+    timing = buf;
+  }
+  std::printf("%-28s %-5s %7.3f%% %7.3f%% %7.3f%% %7.3f%% %7.4f %7.4f | worst F: %s | worst W: %s%s\n", name.c_str(),
               set.c_str(), 100 * worst.fx, 100 * worst.fy, 100 * worst.mz, 100 * worst.wear, worst.stick,
-              worst.exact_stick, conditions[worst_k[0]].label.c_str(), conditions[worst_k[1]].label.c_str());
+              worst.exact_stick, conditions[worst_k[0]].label.c_str(), conditions[worst_k[1]].label.c_str(), timing.c_str());
 }
 
 }  // namespace
@@ -80,6 +107,8 @@ int main(int argc, char** argv) {
   std::string road_params_path;  // default: the Grosch wheel (see docs/performance.md for why not the passenger tire)
   bool coarse = false;
   bool use_cvode = false;
+  bool time = false;
+  RefinementOptions refine;
   std::vector<Candidate> candidates;
   for (Preset p : {Preset::kFast, Preset::kStandard, Preset::kReference}) candidates.push_back({presetName(p), presetOptions(p)});
   for (int i = 1; i < argc; ++i) {
@@ -89,20 +118,30 @@ int main(int argc, char** argv) {
       use_cvode = !std::strcmp(argv[++i], "cvode");
     } else if (!std::strcmp(argv[i], "--coarse")) {
       coarse = true;
+    } else if (!std::strcmp(argv[i], "--time")) {
+      time = true;
+    } else if (!std::strcmp(argv[i], "--refine") && i + 4 < argc) {
+      refine = {std::atoi(argv[i + 1]), std::atoi(argv[i + 2]), std::atof(argv[i + 3]), std::atof(argv[i + 4])};
+      i += 4;
     } else if (!std::strcmp(argv[i], "--grid") && i + 6 < argc) {
       Candidate c;
       c.options.grid.n_x_steps = std::atoi(argv[i + 1]);
       c.options.grid.n_strips = std::atoi(argv[i + 2]);
       c.options.grid.edge_grading = std::atof(argv[i + 3]);
-      c.options.grid.lateral_rule = std::strcmp(argv[i + 4], "gauss") ? LateralRule::kSineMidpoint : LateralRule::kGaussLegendre;
+      c.options.grid.lateral_rule = !std::strcmp(argv[i + 4], "gauss")    ? LateralRule::kGaussLegendre
+                                    : !std::strcmp(argv[i + 4], "panels") ? LateralRule::kGaussShoulderPanels
+                                                                          : LateralRule::kSineMidpoint;
+      c.options.refinement = refine;
       c.options.turn_slip_iterations = std::atoi(argv[i + 5]);
       c.options.root_tolerance = std::atof(argv[i + 6]);
       c.name = std::string(argv[i + 1]) + "x" + argv[i + 2] + " g" + argv[i + 3] + " " + argv[i + 4] + " p" + argv[i + 5] +
-               " t" + argv[i + 6];
+               " t" + argv[i + 6] + (refine.max_level > 0 ? " L" + std::to_string(refine.max_level) : "");
       candidates.push_back(c);
       i += 6;
     } else {
-      std::fprintf(stderr, "usage: %s [--road-params FILE] [--coarse] [--grid NX NY GRADING sine|gauss PASSES TOL]...\n",
+      std::fprintf(stderr,
+                   "usage: %s [--reference marcher|cvode] [--road-params FILE] [--coarse] [--time] "
+                   "[--refine LEVEL BUDGET RESOLUTION DAMPING_RATIO] [--grid NX NY GRADING sine|gauss|panels PASSES TOL]...\n",
                    argv[0]);
       return 2;
     }
@@ -126,8 +165,12 @@ int main(int argc, char** argv) {
               road.name.c_str(), nominal, roadset.size(), rig.size());
   std::printf("%-28s %-5s %8s %8s %8s %8s %7s %7s\n", "preset", "grid", "Fx", "Fy", "Mz", "W_r", "stick", "exact");
   for (const Candidate& c : candidates) {
-    report(c.name, "rig", rig, ref_rig, evaluateAll(grosch, c.options, rig));
-    report(c.name, "road", roadset, ref_road, evaluateAll(road, c.options, roadset));
+    std::vector<double> cpu_rig, cpu_road;
+    const bool timed = time && c.name != presetName(Preset::kReference);
+    const auto res_rig = evaluateAll(grosch, c.options, rig, timed ? &cpu_rig : nullptr);
+    const auto res_road = evaluateAll(road, c.options, roadset, timed ? &cpu_road : nullptr);
+    report(c.name, "rig", rig, ref_rig, res_rig, cpu_rig);
+    report(c.name, "road", roadset, ref_road, res_road, cpu_road);
   }
   return 0;
 }

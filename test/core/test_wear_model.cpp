@@ -220,6 +220,34 @@ TEST(WearModelInput, InvalidOptionsNameTheField) {
   EXPECT_THROW(model.setTimeBudget(std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);
 }
 
+TEST(BrushOptionsValidation, RefinementAndShoulderPanelsNameTheField) {
+  auto message = [](const BrushOptions& o) {
+    std::string error;
+    EXPECT_FALSE(o.validate(&error));
+    return error;
+  };
+  BrushOptions o;
+  o.grid.lateral_rule = LateralRule::kGaussShoulderPanels;
+  o.grid.n_strips = 7;  // panels are mirrored pairs: even counts only
+  EXPECT_NE(message(o).find("grid.n_strips"), std::string::npos);
+  o.grid.n_strips = 4;  // fewer than one node per panel
+  EXPECT_NE(message(o).find("grid.n_strips"), std::string::npos);
+  o = BrushOptions();
+  o.refinement.max_level = RefinementOptions::kMaxLevel + 1;
+  EXPECT_NE(message(o).find("refinement.max_level"), std::string::npos);
+  o = BrushOptions();
+  o.refinement.node_budget = -1;
+  EXPECT_NE(message(o).find("refinement.node_budget"), std::string::npos);
+  o = BrushOptions();
+  o.refinement.resolution = 0.0;
+  EXPECT_NE(message(o).find("refinement.resolution"), std::string::npos);
+  o = BrushOptions();
+  o.refinement.damping_ratio = -0.1;
+  EXPECT_NE(message(o).find("refinement.damping_ratio"), std::string::npos);
+  EXPECT_THROW(BrushWearModel(TireParams(), o), std::invalid_argument);
+  EXPECT_TRUE(presetOptions(Preset::kStandard).validate(nullptr));
+}
+
 TEST(WearModelPresets, NamesRoundTripAndUnknownIsRejected) {
   for (Preset p : {Preset::kFast, Preset::kStandard, Preset::kReference}) {
     Preset parsed = Preset::kFast;

@@ -18,10 +18,16 @@
 ///
 /// Numerics (model spec, "Numerics"): variable-step BDF2 in time along the element path on an x grid
 /// graded towards both edges, and lateral strips clustered towards the shoulders (sine-mapped
-/// midpoints or Gauss-Legendre nodes). Each implicit step treats Coulomb friction as a set-valued law
+/// midpoints, Gauss-Legendre nodes, or Gauss-Legendre panels with two of three in the shoulder band of
+/// the Eq 8 pressure). Each implicit step treats Coulomb friction as a set-valued law
 /// at v_s = 0 (return mapping): stick if the trial stress is inside the static disc, else one monotone
 /// scalar equation for |v_s| is solved by safeguarded Newton iteration in ln|v_s| (bounded iteration
 /// count). The turn-slip coupling Omega delta in v_r is resolved by fixed-point iteration.
+/// Optional local refinement (RefinementOptions): a step of one strip that ends sliding on the
+/// velocity-weakening branch of Eq 10 with less than critical effective damping is redone in 2^L
+/// substeps, within a fixed node budget per evaluation. Eq 20 is integrated by the trapezoid rule in x,
+/// except that the sliding wear next to x = +-a, where p vanishes linearly and w_r ~ p^w1, gets the
+/// exact weight h/(1 + w1) of that endpoint singularity.
 ///
 /// Real-time layout (docs/performance.md): everything that depends only on the grid (node positions,
 /// trapezoid weights, BDF2 coefficients, pressure shapes and their sat(p) factors, since
@@ -32,8 +38,9 @@
 /// |tau| = mu p (exact at the root), so it costs one exp and one log. Without turn slip and with
 /// y_e = 0 the problem is mirror-symmetric in y and only half the strips are marched.
 /// Memory: the per-strip state lives on the stack (at most GridSpec::kMaxStrips strips); evaluate()
-/// allocates nothing, is const and thread-safe; its work is bounded by n_x_steps * n_strips *
-/// turn_slip_iterations * (BrushOptions::max_root_iterations + 1) friction evaluations.
+/// allocates nothing, is const and thread-safe; its work is bounded by (n_x_steps * n_strips +
+/// refinement.node_budget) * turn_slip_iterations * (BrushOptions::max_root_iterations + 1) friction
+/// evaluations (a step redone in substeps keeps its first, coarse, solve in the first term).
 ///
 /// Outputs: Fx, Fy, Mz; W_r [kg/m] and wear per time [kg/s]; area fractions of stick by the paper's
 /// Section 4 definition (v_s <= v_m) and of exact stick (v_s = 0); optionally the local fields.
@@ -53,7 +60,8 @@ namespace tread_wear {
 /// Lateral quadrature rule across the width y/b in [-1, 1].
 enum class LateralRule {
   kSineMidpoint,  ///< midpoints of n equal cells in t, mapped y/b = sin(pi t/2) (clusters at the shoulders)
-  kGaussLegendre  ///< Gauss-Legendre nodes and weights (also clustered at the shoulders)
+  kGaussLegendre,       ///< Gauss-Legendre nodes and weights (also clustered at the shoulders)
+  kGaussShoulderPanels  ///< Gauss-Legendre on three panels per half, two of them in the pressure's shoulder band
 };
 
 /// Discretisation of the contact patch.
@@ -73,6 +81,24 @@ enum class TurnSlipOrientation {
   kFlipped   ///< path curvature negated: slip angle oriented the other way against the track curve
 };
 
+/// Local step refinement along the element path (per strip and x step). Sliding on the
+/// velocity-weakening branch of the Savkoor law (|v_s| > v_m) with an effective damping
+/// c + d(mu p)/d|v_s| along the slip below damping_ratio times the critical 2 sqrt(m k) makes the
+/// element oscillate or run away (stick-slip bursts) on its own time scale 1/rate with
+/// rate = max(sqrt(k/m), -c_eff/m); such a step is redone in 2^L equal substeps so that
+/// rate h / 2^L <= resolution. The outputs of the strip are integrated over the substeps; local
+/// fields stay on the coarse grid. Off with max_level = 0 (a fixed grid).
+struct RefinementOptions {
+  static constexpr int kMaxLevel = 8;  ///< bound of max_level
+  int max_level = 0;              ///< at most 2^max_level substeps per x step [-], 0..kMaxLevel
+  int node_budget = 0;            ///< substep nodes allowed per evaluation, bounds the extra work [-]
+  double resolution = 0.5;        ///< target rate * substep duration [-]
+  double damping_ratio = 0.0;     ///< refine below this ratio of effective to critical damping [-]
+                                  ///< (0: only unstable sliding, c + d(mu p)/d|v_s| < 0)
+
+  bool validate(std::string* error) const;
+};
+
 struct BrushOptions {
   GridSpec grid;
   TurnSlipOrientation orientation = TurnSlipOrientation::kLiteral;
@@ -83,6 +109,7 @@ struct BrushOptions {
   double root_tolerance = 1e-7;         ///< stop when the Newton step in ln|v_s| is below this [-], (0, 0.1];
                                         ///< the last step is applied, so the error is O(tolerance^2)
   bool use_symmetry = true;             ///< march half the strips when straight (Omega = 0) and y_e = 0
+  RefinementOptions refinement{};       ///< local substeps for stick-slip bursts (off by default)
 
   bool validate(std::string* error) const;
 };
@@ -101,6 +128,7 @@ struct WearResult {
   double half_width_m = 0.0;          ///< contact half width b [m]
   int max_root_iterations = 0;        ///< worst scalar-solver iteration count in this evaluation [-]
   long root_iterations = 0;           ///< total scalar-solver iterations in this evaluation [-]
+  int refined_substeps = 0;           ///< substep nodes of the local step refinement in this evaluation [-]
 };
 
 /// Local fields on the grid (node-major: index = i * n_strips + j, i along x from the leading edge).
@@ -152,6 +180,7 @@ class BrushWearModel {
   SavkoorFriction friction_;
   std::vector<double> s_;          ///< mapped node coordinate x/a, from +1 to -1
   std::vector<double> wx_;         ///< trapezoid weight in x/a
+  PressureShape gx_;               ///< g_x without the centre shift (its even part)
   std::vector<double> gx_even_;    ///< even part of g_x at the nodes
   std::vector<Step> steps_;        ///< per-step BDF2 coefficients
   std::vector<double> eta_;        ///< strip centre y/b
