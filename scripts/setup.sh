@@ -46,19 +46,32 @@ for package in "${TREAD_WEAR_APT_PACKAGES[@]}"; do
   grep -qxF "${package}" <<<"${installed}" || missing+=("${package}")
 done
 
-if ((${#missing[@]} > 0)); then
-  as_root=()
-  if [[ ${EUID} -ne 0 ]]; then
-    command -v sudo >/dev/null || die "missing Debian packages (${missing[*]}), not running as root and sudo is" \
-      "not installed: run this script as root."
-    as_root=(sudo env DEBIAN_FRONTEND=noninteractive)
+# Runs a command as root: directly when we are root, else through sudo if it is installed.
+as_root() {
+  if [[ ${EUID} -eq 0 ]]; then
+    "$@"
+  else
+    command -v sudo >/dev/null || die "'$*' needs root, this is not root and sudo is not installed: run this" \
+      "script as root."
+    sudo env DEBIAN_FRONTEND=noninteractive "$@"
   fi
+}
+
+if ((${#missing[@]} > 0)); then
   say "installing ${#missing[@]} missing Debian package(s): ${missing[*]}"
-  "${as_root[@]}" apt-get update -q
-  "${as_root[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
+  as_root apt-get update -q
+  as_root apt-get install -y -q --no-install-recommends "${missing[@]}"
   say "apt done"
 else
   say "all ${#TREAD_WEAR_APT_PACKAGES[@]} Debian packages already installed"
+fi
+
+# roslaunch and rostest resolve "localhost". Installed Debian systems and containers have /etc/hosts; a bare
+# debootstrap tree has none. Only then write Debian's default; an existing file is never edited.
+if ! getent hosts localhost >/dev/null; then
+  [[ -e /etc/hosts ]] && die "'localhost' does not resolve: add '127.0.0.1 localhost' to /etc/hosts (ROS needs it)."
+  say "no /etc/hosts: writing Debian's default (127.0.0.1 localhost) so that ROS can resolve localhost"
+  printf '127.0.0.1\tlocalhost\n::1\t\tlocalhost ip6-localhost ip6-loopback\n' | as_root tee /etc/hosts >/dev/null
 fi
 
 jobs="${TREAD_WEAR_JOBS:-$(nproc)}"
