@@ -7,69 +7,38 @@
 #include <stdexcept>
 
 #include "tread_wear/core/units.h"
+#include "tread_wear/core/validation.h"
 
 namespace tread_wear {
 
 bool GridSpec::validate(std::string* error) const {
-  if (n_x_steps < 4) {
-    if (error) *error = "grid.n_x_steps = " + std::to_string(n_x_steps) + ": must be >= 4";
-    return false;
-  }
-  if (n_strips < 1 || n_strips > kMaxStrips) {
-    if (error)
-      *error = "grid.n_strips = " + std::to_string(n_strips) + ": must be in [1, " + std::to_string(kMaxStrips) + "]";
-    return false;
-  }
-  if (lateral_rule == LateralRule::kGaussShoulderPanels && (n_strips < 6 || n_strips % 2 != 0)) {
-    if (error) *error = "grid.n_strips = " + std::to_string(n_strips) + ": shoulder panels need an even count >= 6";
-    return false;
-  }
-  if (!(edge_grading >= 0.0 && edge_grading < 1.0)) {
-    if (error) *error = "grid.edge_grading = " + std::to_string(edge_grading) + ": must be in [0, 1)";
-    return false;
-  }
+  if (n_x_steps < 4) return failValidation(error, "grid.n_x_steps", n_x_steps, ">= 4");
+  if (n_strips < 1 || n_strips > kMaxStrips)
+    return failValidation(error, "grid.n_strips", n_strips, "in [1, " + std::to_string(kMaxStrips) + "]");
+  if (lateral_rule == LateralRule::kGaussShoulderPanels && (n_strips < 6 || n_strips % 2 != 0))
+    return failValidation(error, "grid.n_strips", n_strips, "even and >= 6 with shoulder panels");
+  if (!(edge_grading >= 0.0 && edge_grading < 1.0))
+    return failValidation(error, "grid.edge_grading", edge_grading, "in [0, 1)");
   return true;
 }
 
 bool RefinementOptions::validate(std::string* error) const {
-  if (max_level < 0 || max_level > kMaxLevel) {
-    if (error) *error = "refinement.max_level = " + std::to_string(max_level) + ": must be in [0, " + std::to_string(kMaxLevel) + "]";
-    return false;
-  }
-  if (node_budget < 0) {
-    if (error) *error = "refinement.node_budget = " + std::to_string(node_budget) + ": must be >= 0";
-    return false;
-  }
-  if (!(resolution > 0.0)) {
-    if (error) *error = "refinement.resolution = " + std::to_string(resolution) + ": must be > 0";
-    return false;
-  }
-  if (!(damping_ratio >= 0.0)) {
-    if (error) *error = "refinement.damping_ratio = " + std::to_string(damping_ratio) + ": must be >= 0";
-    return false;
-  }
+  if (max_level < 0 || max_level > kMaxLevel)
+    return failValidation(error, "refinement.max_level", max_level, "in [0, " + std::to_string(kMaxLevel) + "]");
+  if (node_budget < 0) return failValidation(error, "refinement.node_budget", node_budget, ">= 0");
+  if (!(resolution > 0.0)) return failValidation(error, "refinement.resolution", resolution, "> 0");
+  if (!(damping_ratio >= 0.0)) return failValidation(error, "refinement.damping_ratio", damping_ratio, ">= 0");
   return true;
 }
 
 bool BrushOptions::validate(std::string* error) const {
   if (!grid.validate(error)) return false;
-  if (turn_slip_iterations < 1) {
-    if (error) *error = "turn_slip_iterations = " + std::to_string(turn_slip_iterations) + ": must be >= 1";
-    return false;
-  }
-  if (!(creep_floor_mps > 0.0)) {
-    if (error) *error = "creep_floor_mps = " + std::to_string(creep_floor_mps) + ": must be > 0";
-    return false;
-  }
-  if (max_root_iterations < 1) {
-    if (error) *error = "max_root_iterations = " + std::to_string(max_root_iterations) + ": must be >= 1";
-    return false;
-  }
+  if (turn_slip_iterations < 1) return failValidation(error, "turn_slip_iterations", turn_slip_iterations, ">= 1");
+  if (!(creep_floor_mps > 0.0)) return failValidation(error, "creep_floor_mps", creep_floor_mps, "> 0");
+  if (max_root_iterations < 1) return failValidation(error, "max_root_iterations", max_root_iterations, ">= 1");
   if (!refinement.validate(error)) return false;
-  if (!(root_tolerance > 0.0 && root_tolerance <= 0.1)) {
-    if (error) *error = "root_tolerance = " + std::to_string(root_tolerance) + ": must be in (0, 0.1]";
-    return false;
-  }
+  if (!(root_tolerance > 0.0 && root_tolerance <= 0.1))
+    return failValidation(error, "root_tolerance", root_tolerance, "in (0, 0.1]");
   return true;
 }
 

@@ -15,6 +15,7 @@
 #include "tread_wear/core/contact_patch.h"
 #include "tread_wear/core/friction.h"
 #include "tread_wear/core/units.h"
+#include "tread_wear/core/validation.h"
 
 namespace tread_wear {
 
@@ -63,33 +64,23 @@ void gaussLegendre(int n, std::vector<double>* nodes, std::vector<double>* weigh
   if (n % 2 == 1) (*nodes)[n / 2] = 0.0;
 }
 
-template <typename T>
-bool fail(std::string* error, const char* field, T value, const char* constraint) {
-  if (error) {
-    std::ostringstream msg;
-    msg << field << " = " << value << ": must be " << constraint;
-    *error = msg.str();
-  }
-  return false;
-}
-
 }  // namespace
 
 bool ReferenceSolverOptions::validate(std::string* error) const {
-  if (n_strips < 1 || n_strips > 256) return fail(error, "n_strips", n_strips, "in [1, 256]");
-  if (!(rel_tol > 0.0 && rel_tol <= 1e-3)) return fail(error, "rel_tol", rel_tol, "in (0, 1e-3]");
+  if (n_strips < 1 || n_strips > 256) return failValidation(error, "n_strips", n_strips, "in [1, 256]");
+  if (!(rel_tol > 0.0 && rel_tol <= 1e-3)) return failValidation(error, "rel_tol", rel_tol, "in (0, 1e-3]");
   if (!(abs_tol_factor > 0.0 && std::isfinite(abs_tol_factor)))
-    return fail(error, "abs_tol_factor", abs_tol_factor, "finite and > 0");
+    return failValidation(error, "abs_tol_factor", abs_tol_factor, "finite and > 0");
   if (!(stop_speed_mps > 0.0 && stop_speed_mps <= 1e-6))
-    return fail(error, "stop_speed_mps", stop_speed_mps, "in (0, 1e-6]");
+    return failValidation(error, "stop_speed_mps", stop_speed_mps, "in (0, 1e-6]");
   if (!(start_speed_mps > 0.0 && start_speed_mps < stop_speed_mps))
-    return fail(error, "start_speed_mps", start_speed_mps, "in (0, stop_speed_mps)");
+    return failValidation(error, "start_speed_mps", start_speed_mps, "in (0, stop_speed_mps)");
   if (!(static_tolerance >= 0.0 && static_tolerance <= 1e-6))
-    return fail(error, "static_tolerance", static_tolerance, "in [0, 1e-6]");
+    return failValidation(error, "static_tolerance", static_tolerance, "in [0, 1e-6]");
   if (lateral_map_order < 0 || lateral_map_order > 3)
-    return fail(error, "lateral_map_order", lateral_map_order, "in [0, 3]");
-  if (max_steps < 100) return fail(error, "max_steps", max_steps, ">= 100");
-  if (max_events_per_strip < 10) return fail(error, "max_events_per_strip", max_events_per_strip, ">= 10");
+    return failValidation(error, "lateral_map_order", lateral_map_order, "in [0, 3]");
+  if (max_steps < 100) return failValidation(error, "max_steps", max_steps, ">= 100");
+  if (max_events_per_strip < 10) return failValidation(error, "max_events_per_strip", max_events_per_strip, ">= 10");
   return true;
 }
 

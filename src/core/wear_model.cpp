@@ -5,6 +5,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "tread_wear/core/validation.h"
+
 namespace tread_wear {
 
 const char* presetName(Preset preset) {
@@ -69,17 +71,15 @@ BrushOptions presetOptions(Preset preset, TurnSlipOrientation orientation) {
 }
 
 bool WearModelOptions::validate(std::string* error) const {
-  auto fail = [error](const std::string& field, double value, const char* constraint) {
-    if (error) *error = field + " = " + std::to_string(value) + ": must be " + constraint;
-    return false;
-  };
-  if (!(min_speed_mps > 0.0) || !std::isfinite(min_speed_mps)) return fail("min_speed_mps", min_speed_mps, "finite and > 0");
+  if (!(min_speed_mps > 0.0) || !std::isfinite(min_speed_mps))
+    return failValidation(error, "min_speed_mps", min_speed_mps, "finite and > 0");
   if (!(min_rolling_speed_mps > 0.0 && min_rolling_speed_mps <= min_speed_mps))
-    return fail("min_rolling_speed_mps", min_rolling_speed_mps, "in (0, min_speed_mps]");
+    return failValidation(error, "min_rolling_speed_mps", min_rolling_speed_mps, "in (0, min_speed_mps]");
   if (!(time_budget_s >= 0.0) || !std::isfinite(time_budget_s))
-    return fail("time_budget_s", time_budget_s, "finite and >= 0 (0 = no budget)");
-  if (budget_probe_interval < 1) return fail("budget_probe_interval", budget_probe_interval, ">= 1");
-  if (!(timing_smoothing > 0.0 && timing_smoothing <= 1.0)) return fail("timing_smoothing", timing_smoothing, "in (0, 1]");
+    return failValidation(error, "time_budget_s", time_budget_s, "finite and >= 0 (0 = no budget)");
+  if (budget_probe_interval < 1) return failValidation(error, "budget_probe_interval", budget_probe_interval, ">= 1");
+  if (!(timing_smoothing > 0.0 && timing_smoothing <= 1.0))
+    return failValidation(error, "timing_smoothing", timing_smoothing, "in (0, 1]");
   return true;
 }
 
