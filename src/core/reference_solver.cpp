@@ -13,6 +13,7 @@
 
 #include "tread_wear/core/contact_patch.h"
 #include "tread_wear/core/friction.h"
+#include "tread_wear/core/quadrature.h"
 #include "tread_wear/core/units.h"
 #include "tread_wear/core/validation.h"
 
@@ -33,35 +34,6 @@ constexpr int kSize = 8;
 constexpr int kRoots = 2;              // 0: mode event, 1: |v_s| = v_m
 
 enum class Mode { kStick, kSlide };
-
-/// Gauss-Legendre nodes and weights on [-1, 1] (Newton on the Legendre recurrence).
-void gaussLegendre(int n, std::vector<double>* nodes, std::vector<double>* weights) {
-  nodes->assign(n, 0.0);
-  weights->assign(n, 0.0);
-  for (int i = 0; i < (n + 1) / 2; ++i) {
-    double x = std::cos(units::kPi * (i + 0.75) / (n + 0.5));
-    double dp = 1.0;
-    for (int it = 0; it < 100; ++it) {
-      double p0 = 1.0, p1 = x;
-      for (int k = 2; k <= n; ++k) {
-        const double p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
-        p0 = p1;
-        p1 = p2;
-      }
-      if (n == 1) p0 = 1.0;
-      dp = n * (x * p1 - p0) / (x * x - 1.0);
-      const double dx = p1 / dp;
-      x -= dx;
-      if (std::fabs(dx) < 1e-16) break;
-    }
-    (*nodes)[i] = -x;
-    (*nodes)[n - 1 - i] = x;
-    const double w = 2.0 / ((1.0 - x * x) * dp * dp);
-    (*weights)[i] = w;
-    (*weights)[n - 1 - i] = w;
-  }
-  if (n % 2 == 1) (*nodes)[n / 2] = 0.0;
-}
 
 }  // namespace
 
