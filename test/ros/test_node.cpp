@@ -43,18 +43,23 @@ const std::string kTireFile = std::string(TREAD_WEAR_SOURCE_DIR) + "/config/tire
 constexpr double kLoad = 75.0, kSpeed = 0.5, kCurvature = 1.0 / 0.060;
 const double kSlipAngle = -2.0 * units::kDegree;
 
-/// W_r [kg/m] etc. of the rig point from the core library directly, fast preset as configured in the tests.
-WearResult directResult(Preset preset = Preset::kFast) {
-  WearModelOptions o;
-  o.preset = preset;
-  WearModel model(loadTireParams(kTireFile), o);
+/// The rig point the tests publish: 75 N, 0.5 m/s, alpha = -2 deg on the 60 mm track.
+OperatingPoint rigPoint() {
   OperatingPoint op;
   op.load_n = kLoad;
   op.speed_mps = kSpeed;
   op.slip_angle_rad = kSlipAngle;
   op.path_curvature_per_m = kCurvature;
+  return op;
+}
+
+/// W_r [kg/m] etc. of the rig point from the core library directly, fast preset as configured in the tests.
+WearResult directResult(Preset preset = Preset::kFast) {
+  WearModelOptions o;
+  o.preset = preset;
+  WearModel model(loadTireParams(kTireFile), o);
   WearResult r;
-  model.evaluate(op, &r);
+  model.evaluate(rigPoint(), &r);
   return r;
 }
 
@@ -500,14 +505,7 @@ constexpr double kEndLossS = 1.0 / 50.0 + 1.0 / 100.0;
 
 TEST(BagRegression, ConstantDriveMatchesWrTimesDistance) {
   const double duration_s = 6.0;
-  const DriveInputs constant = [](double) {
-    OperatingPoint op;
-    op.load_n = kLoad;
-    op.speed_mps = kSpeed;
-    op.slip_angle_rad = kSlipAngle;
-    op.path_curvature_per_m = kCurvature;
-    return op;
-  };
+  const DriveInputs constant = [](double) { return rigPoint(); };
   int received = 0;
   const double start_s = 1000.0;
   const tread_wear::WheelWear m = playThroughNode("a", start_s, constant, duration_s, &received);
