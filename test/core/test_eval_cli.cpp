@@ -74,6 +74,15 @@ class Cli : public testing::Test {
   }
 };
 
+/// An output row carries the model's numbers exactly (round-trip precision): Fx, Fy, Mz, W_r, exact stick.
+void expectRowEquals(const std::vector<std::string>& row, const WearResult& expected, int row_number) {
+  EXPECT_EQ(std::stod(row[5]), expected.fx_n) << "row " << row_number;
+  EXPECT_EQ(std::stod(row[6]), expected.fy_n) << "row " << row_number;
+  EXPECT_EQ(std::stod(row[7]), expected.mz_nm) << "row " << row_number;
+  EXPECT_EQ(std::stod(row[8]), expected.wear_rate_kg_per_m) << "row " << row_number;
+  EXPECT_EQ(std::stod(row[12]), expected.exact_stick_fraction) << "row " << row_number;
+}
+
 TEST_F(Cli, EvalMatchesTheModelAtFullPrecision) {
   const std::string input = kHeader +
                             "2,-0.17453292519943295,0,0.06,75\n"  // Table 3 benchmark, rig as turn slip
@@ -93,11 +102,7 @@ TEST_F(Cli, EvalMatchesTheModelAtFullPrecision) {
   for (int i = 0; i < 3; ++i) {
     WearResult expected;
     model.evaluate(ops[i], &expected);
-    EXPECT_EQ(std::stod(rows[i + 1][5]), expected.fx_n) << "row " << i + 1;
-    EXPECT_EQ(std::stod(rows[i + 1][6]), expected.fy_n) << "row " << i + 1;
-    EXPECT_EQ(std::stod(rows[i + 1][7]), expected.mz_nm) << "row " << i + 1;
-    EXPECT_EQ(std::stod(rows[i + 1][8]), expected.wear_rate_kg_per_m) << "row " << i + 1;
-    EXPECT_EQ(std::stod(rows[i + 1][12]), expected.exact_stick_fraction) << "row " << i + 1;
+    expectRowEquals(rows[i + 1], expected, i + 1);
   }
   // ISO 8855: the mirrored rig condition gives the paper's positive side force; a positive slip angle a
   // negative one; driving slip a positive Fx.
@@ -124,9 +129,7 @@ TEST_F(Cli, GridOptionRunsTheMarcherAtThatGrid) {
   for (int i = 0; i < 2; ++i) {
     WearResult expected;
     model.evaluate(ops[i], &expected);
-    EXPECT_EQ(std::stod(rows[i + 1][5]), expected.fx_n) << "row " << i + 1;
-    EXPECT_EQ(std::stod(rows[i + 1][6]), expected.fy_n) << "row " << i + 1;
-    EXPECT_EQ(std::stod(rows[i + 1][8]), expected.wear_rate_kg_per_m) << "row " << i + 1;
+    expectRowEquals(rows[i + 1], expected, i + 1);
   }
   EXPECT_DOUBLE_EQ(std::stod(rows[2][9]), 0.05 * std::stod(rows[2][8]));
   EXPECT_NE(r.err.find("row 2"), std::string::npos) << "low-speed note expected: " << r.err;
