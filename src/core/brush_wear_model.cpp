@@ -181,87 +181,109 @@ struct SlideProblem {
   double dx, dy;     ///< D_x, D_y [Pa s/m]
 };
 
-/// F and dF/dz at z; also returns s and mu p there.
-inline double slideResidual(const SavkoorLog& sk, const SlideProblem& pr, double z, double* dfdz, double* s_out,
-                            double* mup_out, double* s_dmup_out) {
-  const double s = std::exp(z);
+/// F(z) and what the iteration needs at z.
+struct SlideResidual {
+  double f;       ///< F [-]
+  double dfdz;    ///< dF/dz [-]
+  double s;       ///< |v_s| = exp(z) [m/s]
+  double mup;     ///< mu(|v_s|, p) p [Pa]
+  double s_dmup;  ///< |v_s| d(mu p)/d|v_s| [Pa]
+};
+
+inline SlideResidual slideResidual(const SavkoorLog& sk, const SlideProblem& pr, double z) {
+  SlideResidual r;
+  r.s = std::exp(z);
   const double l = z - sk.ln_vm;
   const double e = sk.dmu * std::exp(-sk.c * l * l);
-  const double mup = pr.sat_p * (sk.mu_0 + e);
-  const double s_dmup = pr.sat_p * e * (-2.0 * sk.c * l);  // s d(mu p)/ds
-  const double gx = pr.dx * s + mup, gy = pr.dy * s + mup;
+  r.mup = pr.sat_p * (sk.mu_0 + e);
+  r.s_dmup = pr.sat_p * e * (-2.0 * sk.c * l);
+  const double gx = pr.dx * r.s + r.mup, gy = pr.dy * r.s + r.mup;
   const double inv = 1.0 / (gx * gy);  // one division for both reciprocals
   const double igx = gy * inv, igy = gx * inv;
   const double rx = pr.t2x * igx * igx, ry = pr.t2y * igy * igy;
-  *dfdz = -2.0 * (rx * (pr.dx * s + s_dmup) * igx + ry * (pr.dy * s + s_dmup) * igy);
-  *s_out = s;
-  *mup_out = mup;
-  *s_dmup_out = s_dmup;
-  return rx + ry - 1.0;
+  r.dfdz = -2.0 * (rx * (pr.dx * r.s + r.s_dmup) * igx + ry * (pr.dy * r.s + r.s_dmup) * igy);
+  r.f = rx + ry - 1.0;
+  return r;
 }
 
-// Forced inline: the node solve that calls it is inlined at two places (step and substep), and GCC
-// would otherwise keep this out of line, at about 10% more instructions per node (callgrind).
-__attribute__((always_inline)) inline SlideRoot solveSlide(const SavkoorLog& sk, const SlideProblem& pr,
-                                                           double z_floor, double f_floor_mu, double z_guess,
-                                                           bool have_guess, double tol, int max_iterations) {
-  SlideRoot root;
-  // Creep test at the floor speed: there D s is negligible against mu p and mu = mu(floor) (constant).
-  {
-    const double mup = pr.sat_p * f_floor_mu;
-    if ((pr.t2x + pr.t2y) <= mup * mup) return root;
-  }
-  // Bracket [z_lo, z_hi]; the a-priori upper end ln(|t| / min D) is only computed if bisection needs it.
-  double z_lo = z_floor, z_hi = std::numeric_limits<double>::infinity();
-  auto upperEnd = [&]() {
-    if (std::isinf(z_hi)) z_hi = std::log(std::sqrt(pr.t2x + pr.t2y) / std::min(pr.dx, pr.dy));
-    return z_hi;
-  };
-  double z = z_guess;
-  if (!have_guess || z_guess < sk.ln_vm) {
-    const double r = std::sqrt(pr.t2x + pr.t2y);
-    // Closed-form creep root mu(s) p = r with D s neglected, on the rising branch (s < v_m): there it
-    // is a better start than the warm start; beyond the peak of mu the warm start is.
-    const double e = (r / pr.sat_p - sk.mu_0) / sk.dmu;
-    if (e > 0.0 && e < 1.0) {
-      z = sk.ln_vm - std::sqrt(-std::log(e) / sk.c);
-    } else if (!have_guess) {  // viscous estimate: D s carries what friction at its floor mu_0 p does not
-      const double s_visc = std::sqrt(pr.t2x / (pr.dx * pr.dx) + pr.t2y / (pr.dy * pr.dy));
-      z = std::log(std::max(s_visc * (1.0 - pr.sat_p * sk.mu_0 / r), 1e-300));
+/// The slide root as a resumable iteration: start(), then residual at z() and update() until update()
+/// returns true. Split this way so that the roots of all strips of an x step are iterated side by side:
+/// one root is a chain of exp, division and exp that the processor cannot shorten, but the chains of
+/// different strips are independent and overlap (docs/performance.md).
+class SlideIteration {
+ public:
+  /// Creep test and starting point. True when done without iterating (creep at the static limit).
+  bool start(const SavkoorLog& sk, const SlideProblem& pr, double z_floor, double f_floor_mu, double z_guess,
+             bool have_guess) {
+    root_ = SlideRoot{};
+    {  // Creep test at the floor speed: there D s is negligible against mu p and mu = mu(floor) (constant).
+      const double mup = pr.sat_p * f_floor_mu;
+      if ((pr.t2x + pr.t2y) <= mup * mup) return true;
     }
+    // Bracket [z_lo, z_hi]; the a-priori upper end ln(|t| / min D) is only computed if bisection needs it.
+    z_lo_ = z_floor;
+    z_hi_ = std::numeric_limits<double>::infinity();
+    z_ = z_guess;
+    if (!have_guess || z_guess < sk.ln_vm) {
+      const double r = std::sqrt(pr.t2x + pr.t2y);
+      // Closed-form creep root mu(s) p = r with D s neglected, on the rising branch (s < v_m): there it
+      // is a better start than the warm start; beyond the peak of mu the warm start is.
+      const double e = (r / pr.sat_p - sk.mu_0) / sk.dmu;
+      if (e > 0.0 && e < 1.0) {
+        z_ = sk.ln_vm - std::sqrt(-std::log(e) / sk.c);
+      } else if (!have_guess) {  // viscous estimate: D s carries what friction at its floor mu_0 p does not
+        const double s_visc = std::sqrt(pr.t2x / (pr.dx * pr.dx) + pr.t2y / (pr.dy * pr.dy));
+        z_ = std::log(std::max(s_visc * (1.0 - pr.sat_p * sk.mu_0 / r), 1e-300));
+      }
+    }
+    if (!(z_ > z_lo_ && z_ < z_hi_)) z_ = 0.5 * (z_lo_ + upperEnd(pr));
+    return false;
   }
-  if (!(z > z_lo && z < z_hi)) z = 0.5 * (z_lo + upperEnd());
-  for (int it = 1; it <= max_iterations; ++it) {
-    double dfdz, s, mup, s_dmup;
-    const double f = slideResidual(sk, pr, z, &dfdz, &s, &mup, &s_dmup);
-    root.iterations = it;
-    if (f > 0.0) z_lo = z; else z_hi = z;
+
+  double z() const { return z_; }
+
+  /// One safeguarded Newton step from the residual at z(). True when the root is found.
+  bool update(const SavkoorLog& sk, const SlideProblem& pr, const SlideResidual& r, double tol, int max_iterations) {
+    root_.iterations += 1;
+    if (r.f > 0.0) z_lo_ = z_; else z_hi_ = z_;
     // Far from the root F + 1 behaves like a power of s (like s^-2 where D s dominates), so Newton
     // on ln(F + 1) is nearly linear in z there; near the root both forms agree to O(F^2).
-    const double step = !(dfdz < 0.0) ? 0.0 : (std::fabs(f) < 0.25 ? -f : -(1.0 + f) * std::log1p(f)) / dfdz;
-    if (dfdz < 0.0 && std::fabs(step) < tol) {
+    const bool descending = r.dfdz < 0.0;
+    const double step = !descending ? 0.0 : (std::fabs(r.f) < 0.25 ? -r.f : -(1.0 + r.f) * std::log1p(r.f)) / r.dfdz;
+    if (descending && std::fabs(step) < tol) {
       // Quadratic convergence: the remaining error is O(step^2); correct s and mu p to first order.
-      root.z = z + step;
-      root.s = s * (1.0 + step);
-      root.mup = mup + s_dmup * step;
-      root.s_dmup = s_dmup;
-      return root;
+      root_.z = z_ + step;
+      root_.s = r.s * (1.0 + step);
+      root_.mup = r.mup + r.s_dmup * step;
+      root_.s_dmup = r.s_dmup;
+      return true;
     }
-    double z_new = z + step;
-    if (!(dfdz < 0.0) || !(z_new > z_lo && z_new < z_hi)) z_new = 0.5 * (z_lo + upperEnd());
-    if (z_hi - z_lo < tol || it == max_iterations) {
-      root.z = z_new;
-      root.s = std::exp(z_new);
+    double z_new = z_ + step;
+    if (!descending || !(z_new > z_lo_ && z_new < z_hi_)) z_new = 0.5 * (z_lo_ + upperEnd(pr));
+    if (z_hi_ - z_lo_ < tol || root_.iterations == max_iterations) {
+      root_.z = z_new;
+      root_.s = std::exp(z_new);
       const double l = z_new - sk.ln_vm;
       const double e = sk.dmu * std::exp(-sk.c * l * l);
-      root.mup = pr.sat_p * (sk.mu_0 + e);
-      root.s_dmup = pr.sat_p * e * (-2.0 * sk.c * l);
-      return root;
+      root_.mup = pr.sat_p * (sk.mu_0 + e);
+      root_.s_dmup = pr.sat_p * e * (-2.0 * sk.c * l);
+      return true;
     }
-    z = z_new;
+    z_ = z_new;
+    return false;
   }
-  return root;
-}
+
+  const SlideRoot& root() const { return root_; }
+
+ private:
+  double upperEnd(const SlideProblem& pr) {
+    if (std::isinf(z_hi_)) z_hi_ = std::log(std::sqrt(pr.t2x + pr.t2y) / std::min(pr.dx, pr.dy));
+    return z_hi_;
+  }
+
+  double z_ = 0.0, z_lo_ = 0.0, z_hi_ = 0.0;
+  SlideRoot root_;
+};
 
 /// State of the element travelling along one strip, and its values at the last node (for the
 /// trapezoid correction of a refined step).
@@ -347,8 +369,16 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
   int refinement_budget = initial_budget;
 
   std::array<ElementState, GridSpec::kMaxStrips> el;
+  // Per x step: each strip's state at node i (for substeps), its wear there, its step terms and its node solution.
+  std::array<ElementState, GridSpec::kMaxStrips> before;
+  std::array<double, GridSpec::kMaxStrips> wt_prev;
+  std::array<StepTerms, GridSpec::kMaxStrips> back;
+  std::array<const StepTerms*, GridSpec::kMaxStrips> step_terms;
+  std::array<NodeSolution, GridSpec::kMaxStrips> nodes;
+  std::array<int, GridSpec::kMaxStrips> all_strips;
   double strip_weight[GridSpec::kMaxStrips];  // area weight factor of a marched strip (2 for mirrored pairs)
   for (int j = 0; j < n_active; ++j) {
+    all_strips[j] = j;
     strip_weight[j] = (mirror && 2 * j + 1 != ny) ? 2.0 : 1.0;
     ElementState& e = el[j];
     e = ElementState{};
@@ -405,83 +435,138 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
     return px;
   };
 
-  // One implicit step of the element on strip j to the node at x [m] (return mapping, Eqs 17-18, and
-  // the wear law Eq 19). Updates the element's state. Inlined into both callers (the per-node call is
-  // the hot path; a call with a returned struct costs measurably).
-  auto advance = [&](ElementState& e, int j, const StepTerms& st, double x, double px, double sat_x)
-                     __attribute__((always_inline)) {
-    NodeSolution o;
-    const double y = b * eta_[j];
-    o.p = px * gy_[j];
-    const double sat = o.p > fr.p_0_pa ? sat_x * sat_y_[j] : sat_floor;
-    const double sat_p = sat * o.p;
-    const double tau_static = fr.mu_0 * sat_p;
-    const double dhx = st.c.a1 * e.dlx + st.c.a2 * e.dlx_p, dhy = st.c.a1 * e.dly + st.c.a2 * e.dly_p;
-    const double uhx = st.c.a1 * e.ux + st.c.a2 * e.ux_p, uhy = st.c.a1 * e.uy + st.c.a2 * e.uy_p;
-    const double bx = st.m_over_g * uhx - kx * dhx, by = st.m_over_g * uhy - ky * dhy;
+  // Per-strip work of one implicit step, kept across the phases of advanceStrips.
+  struct StripWork {
+    double y;                 // strip centre [m]
+    double sat_p;             // sat(p) p [Pa]
+    double tau_static;        // static limit mu_0 sat(p) p [Pa]
+    double dhx, dhy;          // BDF2 history of delta [m]
+    double bx, by;            // history terms of the implicit update [Pa]
+    double ndx, ndy;          // deflection at the new node (predictor, then corrector) [m]
+    double ttx, tty;          // trial stress [Pa]
+    SlideProblem problem;
+    SlideIteration root;
+  };
+  std::array<StripWork, GridSpec::kMaxStrips> work;
+  std::array<int, GridSpec::kMaxStrips> solving;
+  std::array<SlideResidual, GridSpec::kMaxStrips> residuals;
 
-    double ndx = dhx + st.g * e.ux, ndy = dhy + st.g * e.uy;  // predictor for the Omega delta coupling
-    double nux = 0.0, nuy = 0.0;
-    o.tx = o.ty = o.vsx = o.vsy = o.s = o.mup = o.s_dmup = o.z = 0.0;
-    o.stuck = false;
+  // One implicit step of the elements of `count` strips (strip[k], with step terms *terms[k]) to the
+  // node at x [m] (return mapping, Eqs 17-18, and the wear law Eq 19); updates their states and writes
+  // their node solutions to out[k]. The strips go through each phase together, and their slide roots
+  // are iterated side by side (SlideIteration).
+  auto advanceStrips = [&](int count, const int* strip, const StepTerms* const* terms, double x, double px,
+                           double sat_x, NodeSolution* out) {
+    for (int k = 0; k < count; ++k) {
+      const int j = strip[k];
+      const ElementState& e = el[j];
+      const StepTerms& st = *terms[k];
+      StripWork& wk = work[k];
+      NodeSolution& o = out[k];
+      wk.y = b * eta_[j];
+      o.p = px * gy_[j];
+      const double sat = o.p > fr.p_0_pa ? sat_x * sat_y_[j] : sat_floor;
+      wk.sat_p = sat * o.p;
+      wk.tau_static = fr.mu_0 * wk.sat_p;
+      wk.dhx = st.c.a1 * e.dlx + st.c.a2 * e.dlx_p;
+      wk.dhy = st.c.a1 * e.dly + st.c.a2 * e.dly_p;
+      const double uhx = st.c.a1 * e.ux + st.c.a2 * e.ux_p, uhy = st.c.a1 * e.uy + st.c.a2 * e.uy_p;
+      wk.bx = st.m_over_g * uhx - kx * wk.dhx;
+      wk.by = st.m_over_g * uhy - ky * wk.dhy;
+      wk.ndx = wk.dhx + st.g * e.ux;  // predictor for the Omega delta coupling
+      wk.ndy = wk.dhy + st.g * e.uy;
+      o.tx = o.ty = o.vsx = o.vsy = o.s = o.mup = o.s_dmup = o.z = 0.0;
+      o.stuck = false;
+    }
     for (int pass = 0; pass < passes; ++pass) {
-      const double rx = vrx0 + Omega * (y + ndy), ry = vry0 - Omega * (x + ndx);
-      const double ttx = st.dx * rx - bx, tty = st.dy * ry - by;  // stress needed to stick
-      const double t2x = ttx * ttx, t2y = tty * tty;
-      if (t2x + t2y <= tau_static * tau_static) {
-        o.stuck = true;
-        o.tx = ttx;
-        o.ty = tty;
-        o.s = o.vsx = o.vsy = o.z = 0.0;
-      } else {
-        o.stuck = false;
+      int n_solving = 0;
+      for (int k = 0; k < count; ++k) {
+        const ElementState& e = el[strip[k]];
+        const StepTerms& st = *terms[k];
+        StripWork& wk = work[k];
+        NodeSolution& o = out[k];
+        const double rx = vrx0 + Omega * (wk.y + wk.ndy), ry = vry0 - Omega * (x + wk.ndx);
+        wk.ttx = st.dx * rx - wk.bx;  // stress needed to stick
+        wk.tty = st.dy * ry - wk.by;
+        const double t2x = wk.ttx * wk.ttx, t2y = wk.tty * wk.tty;
+        o.stuck = t2x + t2y <= wk.tau_static * wk.tau_static;
+        if (o.stuck) {
+          o.tx = wk.ttx;
+          o.ty = wk.tty;
+          o.s = o.vsx = o.vsy = o.z = 0.0;
+          continue;
+        }
         // Warm start: the previous pass at this node, else ln|v_s| extrapolated along the element path.
         const bool have_guess = o.s > 0.0 || e.sliding;
         const double guess = o.s > 0.0 ? o.z : (e.sliding_p ? e.z + st.w * (e.z - e.z_p) : e.z);
-        const SlideRoot root = solveSlide(sk, SlideProblem{sat_p, t2x, t2y, st.dx, st.dy}, z_floor, savkoor_floor,
-                                          guess, have_guess, tol, max_it);
-        max_iterations = std::max(max_iterations, root.iterations);
-        total_iterations += root.iterations;
-        o.s = root.s;
-        if (o.s > 0.0) {
-          o.mup = root.mup;
-          o.s_dmup = root.s_dmup;
-          o.z = root.z;
-          const double gx = st.dx * o.s + o.mup, gy = st.dy * o.s + o.mup;
-          const double inv = 1.0 / (gx * gy);
-          const double igx = gy * inv, igy = gx * inv;
-          o.vsx = -ttx * o.s * igx;
-          o.vsy = -tty * o.s * igy;
-          o.tx = o.mup * ttx * igx;
-          o.ty = o.mup * tty * igy;
-        } else {  // creep at the static limit along the trial direction
-          const double tt = std::sqrt(t2x + t2y);
-          o.vsx = o.vsy = o.z = 0.0;
-          o.tx = tau_static * ttx / tt;
-          o.ty = tau_static * tty / tt;
+        wk.problem = SlideProblem{wk.sat_p, t2x, t2y, st.dx, st.dy};
+        if (!wk.root.start(sk, wk.problem, z_floor, savkoor_floor, guess, have_guess)) solving[n_solving++] = k;
+      }
+      while (n_solving > 0) {  // the residuals of all unfinished roots first: independent of each other
+        for (int q = 0; q < n_solving; ++q) {
+          const StripWork& wk = work[solving[q]];
+          residuals[q] = slideResidual(sk, wk.problem, wk.root.z());
+        }
+        int still = 0;
+        for (int q = 0; q < n_solving; ++q) {
+          StripWork& wk = work[solving[q]];
+          if (!wk.root.update(sk, wk.problem, residuals[q], tol, max_it)) solving[still++] = solving[q];
+        }
+        n_solving = still;
+      }
+      for (int k = 0; k < count; ++k) {
+        const StepTerms& st = *terms[k];
+        StripWork& wk = work[k];
+        NodeSolution& o = out[k];
+        if (!o.stuck) {
+          const SlideRoot& root = wk.root.root();
+          max_iterations = std::max(max_iterations, root.iterations);
+          total_iterations += root.iterations;
+          o.s = root.s;
+          if (o.s > 0.0) {
+            o.mup = root.mup;
+            o.s_dmup = root.s_dmup;
+            o.z = root.z;
+            const double gx = st.dx * o.s + o.mup, gy = st.dy * o.s + o.mup;
+            const double inv = 1.0 / (gx * gy);
+            const double igx = gy * inv, igy = gx * inv;
+            o.vsx = -wk.ttx * o.s * igx;
+            o.vsy = -wk.tty * o.s * igy;
+            o.tx = o.mup * wk.ttx * igx;
+            o.ty = o.mup * wk.tty * igy;
+          } else {  // creep at the static limit along the trial direction
+            const double tt = std::sqrt(wk.ttx * wk.ttx + wk.tty * wk.tty);
+            o.vsx = o.vsy = o.z = 0.0;
+            o.tx = wk.tau_static * wk.ttx / tt;
+            o.ty = wk.tau_static * wk.tty / tt;
+          }
+        }
+        const double nux = (o.tx + wk.bx) * st.inv_dx, nuy = (o.ty + wk.by) * st.inv_dy;
+        wk.ndx = wk.dhx + st.g * nux;
+        wk.ndy = wk.dhy + st.g * nuy;
+        if (pass + 1 == passes) {
+          ElementState& e = el[strip[k]];
+          e.dlx_p = e.dlx;
+          e.dly_p = e.dly;
+          e.ux_p = e.ux;
+          e.uy_p = e.uy;
+          e.dlx = wk.ndx;
+          e.dly = wk.ndy;
+          e.ux = nux;
+          e.uy = nuy;
+          e.sliding_p = e.sliding;
+          e.z_p = e.z;
+          e.sliding = o.s > 0.0;
+          e.z = o.z;
         }
       }
-      nux = (o.tx + bx) * st.inv_dx;
-      nuy = (o.ty + by) * st.inv_dy;
-      ndx = dhx + st.g * nux;
-      ndy = dhy + st.g * nuy;
     }
-    e.dlx_p = e.dlx;
-    e.dly_p = e.dly;
-    e.ux_p = e.ux;
-    e.uy_p = e.uy;
-    e.dlx = ndx;
-    e.dly = ndy;
-    e.ux = nux;
-    e.uy = nuy;
-    e.sliding_p = e.sliding;
-    e.z_p = e.z;
-    e.sliding = o.s > 0.0;
-    e.z = o.z;
     // Eq 19 per time; at the slide root |tau| = mu p exactly, and ln|v_s| = z is known. Below z_wear_cut
     // the sliding term is under 1e-9 w4 (deep creep) and is skipped.
-    o.wt = (o.s > 0.0 && o.z > z_wear_cut) ? w4 + std::exp(ln_w3_over_mpa_w1 + w1 * std::log(o.mup) + w2 * o.z) : w4;
-    return o;
+    for (int k = 0; k < count; ++k) {
+      NodeSolution& o = out[k];
+      o.wt = (o.s > 0.0 && o.z > z_wear_cut) ? w4 + std::exp(ln_w3_over_mpa_w1 + w1 * std::log(o.mup) + w2 * o.z) : w4;
+    }
   };
 
   // Substeps needed in a step of duration h [s] that ended in o: sliding on the velocity-weakening
@@ -534,34 +619,43 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
     // Sums over strips of the node values (weight wx) and of the corrections of refined steps (x/a units).
     double fx_i = 0.0, fy_i = 0.0, mz_y = 0.0, wear_i = 0.0, stick_i = 0.0, exact_i = 0.0;
     double cfx = 0.0, cfy = 0.0, cmz = 0.0, cwear = 0.0, cstick = 0.0, cexact = 0.0;
+    // All strips advance to node i + 1 together; a step is then redone in substeps strip by strip.
+    const bool may_refine = refinement_budget > 0;
     for (int j = 0; j < n_active; ++j) {
       ElementState& e = el[j];
-      const double wt_prev = e.wt;
-      ElementState before;  // the state at node i, kept only while a step may be redone in substeps
-      if (refinement_budget > 0) before = e;
+      wt_prev[j] = e.wt;
+      if (may_refine) before[j] = e;  // the state at node i, kept only while a step may be redone in substeps
       // After substeps the step ratio is 2^level; variable-step BDF2 is zero-stable only below
       // 1 + sqrt(2), so a larger jump restarts with one BDF1 step.
-      const double w_back = e.refined ? sp.ds / e.ds : sp.w;
-      StepTerms back;
-      if (e.refined) back = stepTerms(sp.ds, bdf2Coefficients(w_back > 2.0 ? 0.0 : w_back), w_back);
-      const StepTerms& st = e.refined ? back : coarse;
-      NodeSolution o = advance(e, j, st, x, px, sat_x);
+      if (e.refined) {
+        const double w_back = sp.ds / e.ds;
+        back[j] = stepTerms(sp.ds, bdf2Coefficients(w_back > 2.0 ? 0.0 : w_back), w_back);
+        step_terms[j] = &back[j];
+      } else {
+        step_terms[j] = &coarse;
+      }
+    }
+    advanceStrips(n_active, all_strips.data(), step_terms.data(), x, px, sat_x, nodes.data());
+    for (int j = 0; j < n_active; ++j) {
+      ElementState& e = el[j];
+      NodeSolution& o = nodes[j];
       int level = refinement_budget > 0 ? refinementLevel(o, h) : 0;
       while (level > 0 && (1 << level) > refinement_budget) --level;  // never beyond the node budget
       const double w = wy_[j] * strip_weight[j];
       const double y = b * eta_[j];
       const double y_mz = mirror ? 0.0 : y;  // the y tau_x terms of mirrored pairs cancel
-      double wt_lead = o.wt, wt_trail = wt_prev, edge_ds = sp.ds;  // wear next to an edge of the patch
+      double wt_lead = o.wt, wt_trail = wt_prev[j], edge_ds = sp.ds;  // wear next to an edge of the patch
       if (level > 0) {
         // Redo the step in 2^level equal substeps ending on the node; integrate the strip's outputs over
         // them by the trapezoid rule and add the difference to the coarse trapezoid of this step.
         const int k_sub = 1 << level;
         refinement_budget -= k_sub;
         const double dss = sp.ds / k_sub;
-        const double w_in = before.ds > 0.0 ? dss / before.ds : 0.0;
-        e = before;
+        const double w_in = before[j].ds > 0.0 ? dss / before[j].ds : 0.0;
+        e = before[j];
         double tx0 = e.tx, ty0 = e.ty, wt0 = e.wt, st0 = e.stick, ex0 = e.exact, x0 = a * s_[i];
         double ifx = 0.0, ify = 0.0, imz = 0.0, iw = 0.0, ist = 0.0, iex = 0.0;
+        const StepTerms first = stepTerms(dss, bdf2Coefficients(w_in), w_in);
         const StepTerms inner = stepTerms(dss, bdf2Coefficients(1.0), 1.0);
         for (int k = 1; k <= k_sub; ++k) {
           const double s_k = s_[i] - k * dss;  // substep node x/a
@@ -570,7 +664,8 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
             px_k = pressureX(s_k, gx_.even(s_k), &sat_k);
             x_k = a * s_k;
           }
-          o = advance(e, j, k == 1 ? stepTerms(dss, bdf2Coefficients(w_in), w_in) : inner, x_k, px_k, sat_k);
+          const StepTerms* terms = k == 1 ? &first : &inner;
+          advanceStrips(1, &j, &terms, x_k, px_k, sat_k, &o);
           const double st1 = o.s <= v_m ? 1.0 : 0.0, ex1 = o.stuck ? 1.0 : 0.0;
           ifx += 0.5 * dss * (tx0 + o.tx);
           ify += 0.5 * dss * (ty0 + o.ty);
@@ -585,12 +680,12 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
         edge_ds = dss;
         const double hds = 0.5 * sp.ds;
         const double st1 = o.s <= v_m ? 1.0 : 0.0, ex1 = o.stuck ? 1.0 : 0.0;
-        cfx += w * (ifx - hds * (before.tx + o.tx));
-        cfy += w * (ify - hds * (before.ty + o.ty));
-        cmz += w * (imz - hds * (a * s_[i] * before.ty - y_mz * before.tx + x * o.ty - y_mz * o.tx));
-        cwear += w * (iw - hds * (before.wt + o.wt));
-        cstick += w * (ist - hds * (before.stick + st1));
-        cexact += w * (iex - hds * (before.exact + ex1));
+        cfx += w * (ifx - hds * (before[j].tx + o.tx));
+        cfy += w * (ify - hds * (before[j].ty + o.ty));
+        cmz += w * (imz - hds * (a * s_[i] * before[j].ty - y_mz * before[j].tx + x * o.ty - y_mz * o.tx));
+        cwear += w * (iw - hds * (before[j].wt + o.wt));
+        cstick += w * (ist - hds * (before[j].stick + st1));
+        cexact += w * (iex - hds * (before[j].exact + ex1));
         e.refined = true;
         e.ds = dss;
       } else if (initial_budget > 0) {
