@@ -190,13 +190,18 @@ struct SlideResidual {
   double s_dmup;  ///< |v_s| d(mu p)/d|v_s| [Pa]
 };
 
+/// mu p and |v_s| d(mu p)/d|v_s| at z = ln|v_s| (Eq 10 times sat(p) p).
+inline void frictionAt(const SavkoorLog& sk, double sat_p, double z, double* mup, double* s_dmup) {
+  const double l = z - sk.ln_vm;
+  const double e = sk.dmu * std::exp(-sk.c * l * l);
+  *mup = sat_p * (sk.mu_0 + e);
+  *s_dmup = sat_p * e * (-2.0 * sk.c * l);
+}
+
 inline SlideResidual slideResidual(const SavkoorLog& sk, const SlideProblem& pr, double z) {
   SlideResidual r;
   r.s = std::exp(z);
-  const double l = z - sk.ln_vm;
-  const double e = sk.dmu * std::exp(-sk.c * l * l);
-  r.mup = pr.sat_p * (sk.mu_0 + e);
-  r.s_dmup = pr.sat_p * e * (-2.0 * sk.c * l);
+  frictionAt(sk, pr.sat_p, z, &r.mup, &r.s_dmup);
   const double gx = pr.dx * r.s + r.mup, gy = pr.dy * r.s + r.mup;
   const double inv = 1.0 / (gx * gy);  // one division for both reciprocals
   const double igx = gy * inv, igy = gx * inv;
@@ -263,10 +268,7 @@ class SlideIteration {
     if (z_hi_ - z_lo_ < tol || root_.iterations == max_iterations) {
       root_.z = z_new;
       root_.s = std::exp(z_new);
-      const double l = z_new - sk.ln_vm;
-      const double e = sk.dmu * std::exp(-sk.c * l * l);
-      root_.mup = pr.sat_p * (sk.mu_0 + e);
-      root_.s_dmup = pr.sat_p * e * (-2.0 * sk.c * l);
+      frictionAt(sk, pr.sat_p, z_new, &root_.mup, &root_.s_dmup);
       return true;
     }
     z_ = z_new;
