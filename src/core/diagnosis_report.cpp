@@ -106,6 +106,7 @@ nlohmann::json diagnosisJson(const DiagnosisResult& r, const DiagnosisData& data
                      {"p_vs_parent", num(f.p_vs_parent)}, {"eligible", f.eligible},
                      {"rmser", perOutput(f.rmser)}};
     if (f.cv_done) c["cv_rmser"] = perOutput(f.cv_rmser);
+    if (std::isfinite(f.p_held_out)) c["p_held_out_vs_parent"] = f.p_held_out;
     nlohmann::json pv = nlohmann::json::object();
     for (const ParameterEstimate& p : f.summary.parameters) pv[p.name] = {{"value", p.value}, {"std_error", num(p.std_error)}};
     c["parameters"] = pv;

@@ -198,6 +198,36 @@ double nestedFTestPValue(double rss_small, double rss_large, int extra_parameter
   return fDistributionUpperTail(f, extra_parameters, dof_large);
 }
 
+double wilcoxonSignedRankPValue(const std::vector<double>& d) {
+  std::vector<double> magnitude, sign;
+  for (double v : d)
+    if (v != 0.0) {
+      magnitude.push_back(std::abs(v));
+      sign.push_back(v > 0.0 ? 1.0 : -1.0);
+    }
+  if (magnitude.empty()) return 1.0;
+  // Doubled average ranks are integers, so the null distribution of 2 W+ is a count over integer sums.
+  const std::vector<double> ranks = averageRanks(magnitude);
+  std::vector<int> doubled(ranks.size());
+  int observed = 0, total = 0;
+  for (std::size_t i = 0; i < ranks.size(); ++i) {
+    doubled[i] = static_cast<int>(std::lround(2.0 * ranks[i]));
+    total += doubled[i];
+    if (sign[i] > 0.0) observed += doubled[i];
+  }
+  // Under H0 each rank is positive with probability 1/2 independently: distribution of the sum by convolution.
+  std::vector<double> probability(total + 1, 0.0);
+  probability[0] = 1.0;
+  int reach = 0;
+  for (int r : doubled) {
+    reach += r;
+    for (int s = reach; s >= 0; --s) probability[s] = 0.5 * probability[s] + (s >= r ? 0.5 * probability[s - r] : 0.0);
+  }
+  double p = 0.0;
+  for (int s = 0; s <= observed; ++s) p += probability[s];
+  return std::min(1.0, p);
+}
+
 double aicc(double rss, int n, int k) {
   if (n - k - 1 <= 0 || !(rss > 0.0)) return std::numeric_limits<double>::infinity();
   return n * std::log(rss / n) + 2.0 * k + 2.0 * k * (k + 1.0) / (n - k - 1.0);

@@ -18,7 +18,9 @@
 ///     AICc drops by at least min_aicc_drop; of the eligible, up to max_cv_candidates with the lowest AICc are
 ///     cross-validated (leave one cycle out, else one condition, else one run; folds start from the full-data
 ///     solution) and the one with the lowest held-out error is accepted if it beats the current model's held-out
-///     error. Stops after max_terms terms (pairs by default) or when nothing is accepted.
+///     error. A term that extends an explanation (the second of a pair) must beat it significantly: one-sided
+///     Wilcoxon signed-rank test over the runs' paired held-out losses, p < alpha_select. Stops after max_terms
+///     terms (pairs by default) or when nothing is accepted.
 ///  5. Verdict: explanation = the accepted terms ("a+b"); "unexplained" when the locating tests found a
 ///     significant mismatch but no term was accepted (the covariates the residual follows are listed); "none"
 ///     when neither found anything. mismatch_found is true unless the verdict is "none".
@@ -26,6 +28,7 @@
 /// nine means) they are indicative only, which the report says.
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -39,7 +42,8 @@ namespace diagnosis {
 struct DiagnosisOptions {
   ExtendedModelOptions model;      ///< preset and base orientation
   double alpha_locate = 0.01;      ///< family-wise error rate of the locating tests (Holm) (0, 1)
-  double alpha_select = 0.01;      ///< family-wise error rate of the term tests per step (Bonferroni) (0, 1)
+  double alpha_select = 0.01;      ///< family-wise error rate of the term tests per step (Bonferroni), and the
+                                   ///< level of the pair step's held-out rank test (0, 1)
   double min_aicc_drop = 2.0;      ///< AICc must drop by at least this to make a term eligible, >= 0
   int max_terms = 2;               ///< largest combination (2 = pairs), >= 0
   int max_cv_candidates = 3;       ///< eligible terms cross-validated per step, >= 1
@@ -82,7 +86,11 @@ struct FittedModel {
   bool cv_done = false;
   double cv_rmser[kNumOutputs] = {0.0, 0.0};  ///< held out [-]
   double cv_score = 0.0;           ///< mean weighted held-out squared residual
+  std::vector<double> cv_run_loss; ///< per run: weighted held-out squared residuals summed over its outputs; NaN if none
   double p_vs_parent = 1.0;        ///< partial F test against the model it extends
+  /// One-sided Wilcoxon signed-rank p of its per-run held-out losses against the parent's; computed for the best
+  /// candidate of a step that extends an explanation (NaN otherwise)
+  double p_held_out = std::numeric_limits<double>::quiet_NaN();
   std::string parent;              ///< label of that model
   bool eligible = false;
 };

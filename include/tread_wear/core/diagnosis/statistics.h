@@ -2,8 +2,9 @@
 /// @file statistics.h
 /// Small, dependency-free statistics for the mismatch diagnosis: rank correlation and regression slope with
 /// permutation p-values, between-group effect size (eta squared) with a permutation p-value, Holm's step-down
-/// adjustment for many tests, the F distribution's tail (nested model comparison) and the information criteria
-/// AICc and BIC of a Gaussian least-squares fit.
+/// adjustment for many tests, the F distribution's tail (nested model comparison), the Wilcoxon signed-rank test
+/// of paired differences (held-out errors of two models) and the information criteria AICc and BIC of a Gaussian
+/// least-squares fit.
 ///
 /// Permutation p-values are (1 + #{|stat_perm| >= |stat_obs|}) / (1 + n_permutations) (Phipson & Smyth, 2010):
 /// exact-size tests that never return 0, so the smallest reachable p is 1 / (1 + n_permutations).
@@ -55,6 +56,12 @@ double fDistributionUpperTail(double f, double d1, double d2);
 /// p-value of the partial F test of a larger nested model: RSS drops from rss_small to rss_large with
 /// extra_parameters more, residual degrees of freedom dof_large = n - k_large. 1 when nothing improved.
 double nestedFTestPValue(double rss_small, double rss_large, int extra_parameters, int dof_large);
+
+/// One-sided Wilcoxon signed-rank test that paired differences d_i are centred below zero: the exact null
+/// distribution of the positive-rank sum W+ (each rank positive with probability 1/2; average ranks for ties in
+/// |d|, zero differences dropped), p = P(W+ <= observed). 1 when every difference is zero. Exact also with ties
+/// (doubled average ranks are integers); time O(n^3), fine for the few hundred runs of a rig program.
+double wilcoxonSignedRankPValue(const std::vector<double>& differences);
 
 /// Corrected Akaike criterion of a Gaussian least-squares fit: n ln(rss/n) + 2k + 2k(k+1)/(n-k-1).
 /// +inf when n - k - 1 <= 0.
