@@ -8,6 +8,8 @@
 ///              |estimate - truth| <= 0.25 |truth - neutral| (neutral = the value without effect, e.g. gain 1,
 ///              q of the file); thermal_wear's sigma_T (no neutral value) relative to itself. Only scored when
 ///              the term was selected; turn_slip_orientation has none.
+///   covered    the true primary parameter lies within 2 reported standard errors of the estimate (are the
+///              uncertainties the tool reports honest?); scored with the parameter
 ///   improved   the held-out RMSER of every output the term affects is lower after than before
 ///   none       (controls) the verdict is "none"
 
@@ -31,9 +33,10 @@ struct HarnessOutcome {
   HarnessCase c;
   std::string explanation;
   bool right = false;
-  bool parameter_scored = false, parameter_ok = false;
+  bool parameter_scored = false, parameter_ok = false, parameter_covered = false;
   bool improved_scored = false, improved = false;
   double estimate = std::numeric_limits<double>::quiet_NaN(), truth = std::numeric_limits<double>::quiet_NaN();
+  double std_error = std::numeric_limits<double>::quiet_NaN();  ///< reported standard error of the estimate
   double cv_before[kNumOutputs] = {0.0, 0.0}, cv_after[kNumOutputs] = {0.0, 0.0};
   double seconds = 0.0;
   std::string error;  ///< non-empty when the case failed to run
