@@ -9,7 +9,7 @@
 ///              q of the file); thermal_wear's sigma_T (no neutral value) relative to itself. Only scored when
 ///              the term was selected; turn_slip_orientation has none.
 ///   covered    the true primary parameter lies within 2 reported standard errors of the estimate (are the
-///              uncertainties the tool reports honest?); scored with the parameter
+///              uncertainties the tool reports honest? about 95% if they are); scored when the term was selected
 ///   improved   the held-out RMSER of every output the term affects is lower after than before
 ///   none       (controls) the verdict is "none"
 
@@ -33,7 +33,8 @@ struct HarnessOutcome {
   HarnessCase c;
   std::string explanation;
   bool right = false;
-  bool parameter_scored = false, parameter_ok = false, parameter_covered = false;
+  bool parameter_scored = false, parameter_ok = false;
+  bool parameter_estimated = false, parameter_covered = false;  ///< the term was selected; truth within 2 SE
   bool improved_scored = false, improved = false;
   double estimate = std::numeric_limits<double>::quiet_NaN(), truth = std::numeric_limits<double>::quiet_NaN();
   double std_error = std::numeric_limits<double>::quiet_NaN();  ///< reported standard error of the estimate
