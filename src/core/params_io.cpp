@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "tread_wear/core/units.h"
+#include "tread_wear/core/validation.h"
 
 namespace tread_wear {
 namespace {
@@ -242,20 +243,14 @@ class Loader {
 }  // namespace
 
 bool RigGeometry::validate(std::string* error) const {
-  auto fail = [error](const char* field, double value, const char* constraint) {
-    if (error != nullptr) {
-      std::ostringstream msg;
-      msg.precision(10);
-      msg << "rig." << field << " = " << value << ": must be " << constraint;
-      *error = msg.str();
-    }
-    return false;
-  };
-  if (!(std::isfinite(track_radius_m) && track_radius_m > 0.0)) return fail("track_radius", track_radius_m, "> 0");
-  if (!(std::isfinite(wheel_radius_m) && wheel_radius_m > 0.0)) return fail("wheel_radius", wheel_radius_m, "> 0");
-  if (!(std::isfinite(wheel_width_m) && wheel_width_m > 0.0)) return fail("wheel_width", wheel_width_m, "> 0");
+  if (!(std::isfinite(track_radius_m) && track_radius_m > 0.0))
+    return failValidation(error, "rig.track_radius", track_radius_m, "> 0");
+  if (!(std::isfinite(wheel_radius_m) && wheel_radius_m > 0.0))
+    return failValidation(error, "rig.wheel_radius", wheel_radius_m, "> 0");
+  if (!(std::isfinite(wheel_width_m) && wheel_width_m > 0.0))
+    return failValidation(error, "rig.wheel_width", wheel_width_m, "> 0");
   if (!(std::isfinite(rim_radius_m) && rim_radius_m > 0.0 && rim_radius_m < wheel_radius_m))
-    return fail("rim_radius", rim_radius_m, "> 0 and < wheel_radius");
+    return failValidation(error, "rig.rim_radius", rim_radius_m, "> 0 and < wheel_radius");
   return true;
 }
 
