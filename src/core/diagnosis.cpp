@@ -20,6 +20,18 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kNoiseFloor[kNumOutputs] = {0.005, 0.01};
 /// Noise scales [-] of the first base fit (the rig's typical 2% side force and 5% wear).
 constexpr double kDefaultNoise[kNumOutputs] = {0.02, 0.05};
+/// Error-ratio RMS [-] below which a model reproduces an output exactly. Noise-free generated recordings fitted
+/// with the generating model leave residuals of ~1e-11 (the optimizer's convergence); any measurement leaves far
+/// more. Below it, tests and fits would only see round-off: a trend in it is not a mismatch, and a term that
+/// lowers it further (any term can) is not an explanation.
+constexpr double kNumericalResolution = 1e-6;
+
+/// True when every measured output is reproduced to within kNumericalResolution.
+bool reproducedExactly(const FittedModel& m) {
+  for (int o = 0; o < kNumOutputs; ++o)
+    if (std::isfinite(m.rmser[o]) && m.rmser[o] >= kNumericalResolution) return false;
+  return true;
+}
 
 std::string format(double v, int precision = 4) {
   std::ostringstream s;
@@ -197,7 +209,12 @@ std::vector<LocatedEffect> locate(const DiagnosisData& data, const Prediction& p
       if (std::isfinite(res[i])) idx.push_back(static_cast<int>(i));
     if (idx.size() < 6) continue;  // too few measured runs for a trend test with any power
     std::vector<double> y;
-    for (int i : idx) y.push_back(res[i]);
+    double ss = 0.0;
+    for (int i : idx) {
+      y.push_back(res[i]);
+      ss += res[i] * res[i];
+    }
+    if (std::sqrt(ss / y.size()) < kNumericalResolution) continue;  // reproduced: nothing to locate
     std::vector<Covariate> covariates = data.covariates;
     std::vector<double> level;
     for (std::size_t i = 0; i < data.runs.size(); ++i) level.push_back(prediction.value(out, static_cast<int>(i)));
@@ -355,6 +372,12 @@ DiagnosisResult diagnose(const TireParams& base, const DiagnosisData& data, cons
   }
   FittedModel current = result.base;
   for (int step = 0; step < options.max_terms; ++step) {
+    if (reproducedExactly(current)) {
+      result.log.push_back("step " + std::to_string(step + 1) + " from '" + current.label +
+                           "': every output reproduced within numerical resolution (RMSER < " +
+                           format(kNumericalResolution) + "): stop");
+      break;
+    }
     std::vector<FittedModel> fits;
     for (Term t : applicable) {
       if (std::find(current.terms.begin(), current.terms.end(), t) != current.terms.end()) continue;

@@ -24,19 +24,20 @@ struct Recovery {
   HarnessOutcome outcome;
 };
 
-Recovery run(const std::string& effect, double magnitude, std::uint64_t seed = 11) {
+Recovery run(const std::string& effect, double magnitude, double wear_noise_rsd = 0.01, double side_force_noise_n = 0.2,
+             int max_terms = 1) {
   ConcealSpec spec;
   spec.effect = effect;
   spec.magnitude = magnitude;
   spec.design = "small";
-  spec.wear_noise_rsd = 0.01;
-  spec.side_force_noise_n = 0.2;
-  spec.seed = seed;
+  spec.wear_noise_rsd = wear_noise_rsd;
+  spec.side_force_noise_n = side_force_noise_n;
+  spec.seed = 11;
   const TireParams base;
   const ConcealCase c = concealEffect(base, spec);
   const DiagnosisData data = buildDiagnosisData(c.table);
   DiagnosisOptions opt;
-  opt.max_terms = 1;  // single terms: enough to check that the hidden one wins
+  opt.max_terms = max_terms;  // default 1, single terms: enough to check that the hidden one wins
   opt.permutations = 999;
   Recovery r{c.answer, diagnose(base, data, opt), {}};
   r.outcome = scoreCase(HarnessCase{spec, "test"}, c.answer, r.result);
@@ -81,6 +82,20 @@ TEST(DiagnosisRecovery, NoEffectGivesNone) {
   // The base fit recovers the hidden level parameters to within the noise (1% wear, 0.2 N side force).
   EXPECT_NEAR(fittedValue(r.result.base, "w3_scale") / r.answer.parameters.at("w3_scale"), 1.0, 0.02);
   EXPECT_NEAR(fittedValue(r.result.base, "mu_scale") / r.answer.parameters.at("mu_scale"), 1.0, 0.01);
+}
+
+// Recordings without noise, e.g. a simulation checked against the same model: the fit reproduces them to
+// round-off, and round-off is neither a mismatch nor something a second term explains.
+TEST(DiagnosisRecovery, NoiseFreeRecordings) {
+  const Recovery control = run("none", std::nan(""), 0.0, 0.0, 2);
+  EXPECT_EQ(control.result.explanation, "none");
+  EXPECT_TRUE(control.result.tried.empty()) << "no term is fitted to round-off";
+  EXPECT_TRUE(control.result.located_before.empty());
+  EXPECT_NEAR(fittedValue(control.result.base, "mu_scale") / control.answer.parameters.at("mu_scale"), 1.0, 1e-6);
+
+  const Recovery offset = run("sensor_offset", 4.0, 0.0, 0.0, 2);
+  EXPECT_EQ(offset.result.explanation, "sensor_offset") << "the exact term alone, no second term";
+  EXPECT_NEAR(fittedValue(offset.result.final_model, "side_force_offset_n"), 4.0, 1e-4);
 }
 
 TEST(DiagnosisRecovery, ThermalWear) { expectRecovered("thermal_wear", 30.0); }
