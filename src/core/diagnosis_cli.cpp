@@ -74,7 +74,9 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
     const TireParams params = loadTireParams(a.get("params"));
     const std::string source = a.has("runs") ? a.get("runs") : a.get("bag");
     const RunTable table = a.has("runs") ? readRunTable(source) : bag_reader(source);
-    const DiagnosisData data = buildDiagnosisData(table);
+    DiagnosisData data = buildDiagnosisData(table);
+    screenSideForceSigns(params, opt.model, &data);
+    for (const std::string& w : data.warnings) err << "tread_wear_diagnose: warning: " << w << "\n";
     const DiagnosisResult result = diagnose(params, data, opt);
     const std::filesystem::path dir(a.get("report"));
     std::filesystem::create_directories(dir);

@@ -116,6 +116,7 @@ nlohmann::json diagnosisJson(const DiagnosisResult& r, const DiagnosisData& data
   j["noise_scale"] = perOutput(r.noise_scale);
   j["repeat_spread"] = perOutput(r.pure_error);
   j["skipped_terms"] = r.skipped_terms;
+  j["data_warnings"] = data.warnings;
   j["selection_log"] = r.log;
   j["runs"] = data.runs.size();
   j["measured"] = {{"side_force", data.measured_count[0]}, {"wear", data.measured_count[1]}};
@@ -149,6 +150,7 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
     for (const std::string& c : r.unexplained_covariates) m << " `" << c << "`";
     m << "\n";
   }
+  for (const std::string& w : data.warnings) m << "- data warning: " << w << "\n";
   m << "\n| | side force RMSER | wear RMSER | side force held out | wear held out |\n|---|---|---|---|---|\n";
   m << "| base model (calibrated levels) | " << pct(r.base.rmser[0]) << " | " << pct(r.base.rmser[1]) << " | "
     << pct(r.base.cv_rmser[0]) << " | " << pct(r.base.cv_rmser[1]) << " |\n";
