@@ -26,6 +26,9 @@ constexpr double kDefaultNoise[kNumOutputs] = {0.02, 0.05};
 /// lowers it further (any term can) is not an explanation.
 constexpr double kNumericalResolution = 1e-6;
 
+/// Fewest measured runs of an output for its locating tests.
+constexpr std::size_t kMinRunsToLocate = 6;
+
 /// True when every measured output is reproduced to within kNumericalResolution.
 bool reproducedExactly(const FittedModel& m) {
   for (int o = 0; o < kNumOutputs; ++o)
@@ -197,8 +200,9 @@ void pureError(const DiagnosisData& data, double* scale, int* dof) {
   }
 }
 
+/// Locating tests of both outputs' residuals; `not_tested` (if given) gets the outputs without tests and why.
 std::vector<LocatedEffect> locate(const DiagnosisData& data, const Prediction& prediction,
-                                  const DiagnosisOptions& options) {
+                                  const DiagnosisOptions& options, std::vector<std::string>* not_tested = nullptr) {
   std::vector<LocatedEffect> tests;
   std::uint64_t seed = options.seed;
   for (int o = 0; o < kNumOutputs; ++o) {
@@ -207,14 +211,23 @@ std::vector<LocatedEffect> locate(const DiagnosisData& data, const Prediction& p
     std::vector<int> idx;
     for (std::size_t i = 0; i < res.size(); ++i)
       if (std::isfinite(res[i])) idx.push_back(static_cast<int>(i));
-    if (idx.size() < 6) continue;  // too few measured runs for a trend test with any power
+    auto skip = [&](const std::string& why) {
+      if (not_tested) not_tested->push_back(std::string(outputName(out)) + ": " + why);
+    };
+    if (idx.size() < kMinRunsToLocate) {  // a trend test over fewer runs has no power
+      skip(std::to_string(idx.size()) + " measured runs, the locating tests need " + std::to_string(kMinRunsToLocate));
+      continue;
+    }
     std::vector<double> y;
     double ss = 0.0;
     for (int i : idx) {
       y.push_back(res[i]);
       ss += res[i] * res[i];
     }
-    if (std::sqrt(ss / y.size()) < kNumericalResolution) continue;  // reproduced: nothing to locate
+    if (std::sqrt(ss / y.size()) < kNumericalResolution) {
+      skip("reproduced within numerical resolution, nothing to locate");
+      continue;
+    }
     std::vector<Covariate> covariates = data.covariates;
     std::vector<double> level;
     for (std::size_t i = 0; i < data.runs.size(); ++i) level.push_back(prediction.value(out, static_cast<int>(i)));
@@ -393,7 +406,7 @@ DiagnosisResult diagnose(const TireParams& base, const DiagnosisData& data, cons
   result.base = reweight(result.base);
 
   // 3. Locate.
-  result.located_before = locate(data, result.base.prediction, options);
+  result.located_before = locate(data, result.base.prediction, options, &result.not_located);
 
   // 4. Explain: forward selection.
   std::vector<Term> pool = options.candidates;

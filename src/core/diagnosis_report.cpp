@@ -117,6 +117,7 @@ nlohmann::json diagnosisJson(const DiagnosisResult& r, const DiagnosisData& data
   j["repeat_spread"] = perOutput(r.pure_error);
   j["skipped_terms"] = r.skipped_terms;
   j["data_warnings"] = data.warnings;
+  j["not_located"] = r.not_located;
   j["selection_log"] = r.log;
   j["runs"] = data.runs.size();
   j["measured"] = {{"side_force", data.measured_count[0]}, {"wear", data.measured_count[1]}};
@@ -159,6 +160,7 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
   m << "Held out: " << r.cv_scheme << ". RMSER is Eq 24 of the paper.\n\n";
   m << "## Where the base model misses (residual = predicted/measured - 1)\n\n";
   m << "Permutation tests, Holm-adjusted over all " << r.located_before.size() << " tests; ten smallest p-values:\n\n";
+  for (const std::string& why : r.not_located) m << "Not tested: " << why << ".\n\n";
   m << "| output | covariate | kind | effect | p | p (Holm) |\n|---|---|---|---|---|---|\n";
   for (std::size_t i = 0; i < r.located_before.size() && i < 10; ++i) {
     const LocatedEffect& e = r.located_before[i];

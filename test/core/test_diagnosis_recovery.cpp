@@ -91,6 +91,8 @@ TEST(DiagnosisRecovery, NoiseFreeRecordings) {
   EXPECT_EQ(control.result.explanation, "none");
   EXPECT_TRUE(control.result.tried.empty()) << "no term is fitted to round-off";
   EXPECT_TRUE(control.result.located_before.empty());
+  ASSERT_EQ(control.result.not_located.size(), 2u) << "both outputs: nothing to locate";
+  EXPECT_NE(control.result.not_located[0].find("numerical resolution"), std::string::npos);
   EXPECT_NEAR(fittedValue(control.result.base, "mu_scale") / control.answer.parameters.at("mu_scale"), 1.0, 1e-6);
 
   const Recovery offset = run("sensor_offset", 4.0, 0.0, 0.0, 2);

@@ -105,6 +105,7 @@ struct DiagnosisResult {
   std::vector<FittedModel> tried;                 ///< every extended model fitted, in order
   FittedModel final_model;
   std::vector<LocatedEffect> located_before;      ///< tests on the base residuals (sorted by p)
+  std::vector<std::string> not_located;           ///< "output: why" for outputs without locating tests
   std::vector<LocatedEffect> located_after;       ///< the same tests on the final model's residuals
   bool mismatch_found = false;
   std::string explanation;                        ///< library name, "a+b", "none" or "unexplained"
