@@ -9,6 +9,8 @@
 #include <sstream>
 #include <thread>
 
+#include "tread_wear/core/diagnosis/statistics.h"
+
 namespace tread_wear {
 namespace diagnosis {
 namespace {
@@ -38,6 +40,16 @@ std::string pct(int num, int den) {
   // One decimal, so that a rate just under a target (e.g. 122/136 = 89.7%) does not print as the target.
   s << std::fixed << std::setprecision(num == den || num == 0 ? 0 : 1) << 100.0 * num / den << "% (" << num << "/"
     << den << ")";
+  return s.str();
+}
+
+/// pct with the 95% Wilson interval: how far a rate measured on this many cases can be from the true rate.
+std::string pctWithInterval(int num, int den) {
+  if (den == 0) return "-";
+  const ProportionInterval ci = wilsonInterval(num, den);
+  std::ostringstream s;
+  s << pct(num, den) << " [95% CI " << std::fixed << std::setprecision(1) << 100.0 * ci.lower << "-"
+    << 100.0 * ci.upper << "%]";
   return s.str();
 }
 
@@ -213,10 +225,11 @@ std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
     }
   for (const auto& [noise, total] : totals) {
     const auto& [effects, controls] = total;
-    s << "\nAt wear RSD " << noise * 100 << "%: right explanation " << pct(effects.right, effects.n)
-      << ", parameter within 25% " << pct(effects.pok, effects.pscored) << " (when selected, truth within 2 standard "
-      << "errors " << pct(effects.pcovered, effects.pestimated) << "), held-out RMSER improved "
-      << pct(effects.iok, effects.iscored) << "; controls `none` " << pct(controls.right, controls.n) << ".\n";
+    s << "\nAt wear RSD " << noise * 100 << "%: right explanation " << pctWithInterval(effects.right, effects.n)
+      << ", parameter within 25% " << pctWithInterval(effects.pok, effects.pscored)
+      << " (when selected, truth within 2 standard errors " << pctWithInterval(effects.pcovered, effects.pestimated)
+      << "), held-out RMSER improved " << pctWithInterval(effects.iok, effects.iscored) << "; controls `none` "
+      << pctWithInterval(controls.right, controls.n) << ".\n";
   }
   return s.str();
 }

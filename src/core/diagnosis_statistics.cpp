@@ -228,6 +228,16 @@ double wilcoxonSignedRankPValue(const std::vector<double>& d) {
   return std::min(1.0, p);
 }
 
+ProportionInterval wilsonInterval(int successes, int trials, double z) {
+  if (trials < 1 || successes < 0 || successes > trials)
+    throw std::invalid_argument("wilsonInterval: need 0 <= successes <= trials and trials >= 1, got " +
+                                std::to_string(successes) + " of " + std::to_string(trials));
+  const double n = trials, p = successes / n, z2 = z * z;
+  const double centre = (p + z2 / (2.0 * n)) / (1.0 + z2 / n);
+  const double half = z * std::sqrt(p * (1.0 - p) / n + z2 / (4.0 * n * n)) / (1.0 + z2 / n);
+  return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
+}
+
 double aicc(double rss, int n, int k) {
   if (n - k - 1 <= 0 || !(rss > 0.0)) return std::numeric_limits<double>::infinity();
   return n * std::log(rss / n) + 2.0 * k + 2.0 * k * (k + 1.0) / (n - k - 1.0);

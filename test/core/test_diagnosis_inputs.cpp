@@ -194,11 +194,13 @@ TEST(DiagnosisHarness, TableTotalsPerNoiseLevel) {
   for (int k : {0, 1}) outcomes[k].parameter_scored = true;
   outcomes[0].parameter_estimated = outcomes[0].parameter_covered = outcomes[0].parameter_ok = true;
   const std::string table = harnessTable(outcomes);
-  EXPECT_NE(table.find("At wear RSD 5%: right explanation 50.0% (1/2), parameter within 25% 50.0% (1/2) (when "
-                       "selected, truth within 2 standard errors 100% (1/1))"),
+  // Summary rates carry 95% Wilson intervals (1/2: 9.5-90.5%, 1/1: 20.7-100%, by hand from Newcombe's formula).
+  EXPECT_NE(table.find("At wear RSD 5%: right explanation 50.0% (1/2) [95% CI 9.5-90.5%], parameter within 25% "
+                       "50.0% (1/2) [95% CI 9.5-90.5%] (when selected, truth within 2 standard errors 100% (1/1) "
+                       "[95% CI 20.7-100.0%])"),
             std::string::npos)
       << table;
-  EXPECT_NE(table.find("controls `none` 100% (1/1)."), std::string::npos) << table;
+  EXPECT_NE(table.find("controls `none` 100% (1/1) [95% CI 20.7-100.0%]."), std::string::npos) << table;
   EXPECT_NE(table.find("At wear RSD 10%: right explanation 100% (1/1)"), std::string::npos) << table;
-  EXPECT_NE(table.find("controls `none` 50.0% (1/2)."), std::string::npos) << table;
+  EXPECT_NE(table.find("controls `none` 50.0% (1/2) [95% CI 9.5-90.5%]."), std::string::npos) << table;
 }

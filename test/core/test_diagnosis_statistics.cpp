@@ -128,3 +128,21 @@ TEST(DiagnosisStatistics, WilcoxonSignedRankWithTiesMatchesEnumeration) {
   }
   EXPECT_NEAR(wilcoxonSignedRankPValue(d), static_cast<double>(at_most) / (1 << n), 1e-12);
 }
+
+// Newcombe (1998), Statistics in Medicine 17:857, Table I, method 3 (score interval without continuity correction).
+TEST(DiagnosisStatistics, WilsonIntervalMatchesNewcombe) {
+  const struct {
+    int k, n;
+    double lower, upper;
+  } cases[] = {{81, 263, 0.2553, 0.3662}, {15, 148, 0.0624, 0.1605}, {0, 20, 0.0, 0.1611}, {1, 29, 0.0061, 0.1718}};
+  for (const auto& c : cases) {
+    const ProportionInterval ci = wilsonInterval(c.k, c.n);
+    EXPECT_NEAR(ci.lower, c.lower, 5e-5) << c.k << "/" << c.n;
+    EXPECT_NEAR(ci.upper, c.upper, 5e-5) << c.k << "/" << c.n;
+  }
+  const ProportionInterval all = wilsonInterval(20, 20);
+  EXPECT_NEAR(all.lower, 1.0 - 0.1611, 5e-5) << "symmetric to 0/20";
+  EXPECT_EQ(all.upper, 1.0);
+  EXPECT_THROW(wilsonInterval(3, 2), std::invalid_argument);
+  EXPECT_THROW(wilsonInterval(0, 0), std::invalid_argument);
+}

@@ -63,6 +63,14 @@ double nestedFTestPValue(double rss_small, double rss_large, int extra_parameter
 /// (doubled average ranks are integers); time O(n^3), fine for the few hundred runs of a rig program.
 double wilcoxonSignedRankPValue(const std::vector<double>& differences);
 
+/// Wilson score interval of a binomial proportion (no continuity correction; Newcombe 1998, method 3): the
+/// uncertainty of a success rate measured on `trials` cases. z = 1.96 gives the 95% interval.
+/// @throw std::invalid_argument unless 0 <= successes <= trials and trials >= 1.
+struct ProportionInterval {
+  double lower = 0.0, upper = 1.0;
+};
+ProportionInterval wilsonInterval(int successes, int trials, double z = 1.959963984540054);
+
 /// Corrected Akaike criterion of a Gaussian least-squares fit: n ln(rss/n) + 2k + 2k(k+1)/(n-k-1).
 /// +inf when n - k - 1 <= 0.
 double aicc(double rss, int n, int k);
