@@ -10,6 +10,7 @@
 #include "tread_wear/core/calibration.h"
 #include "tread_wear/core/command_line.h"
 #include "tread_wear/core/params_io.h"
+#include "tread_wear/core/recording_checks.h"
 #include "tread_wear/core/reference_models.h"
 #include "tread_wear/core/run_table.h"
 #include "tread_wear/core/wear_characteristics.h"
@@ -106,7 +107,9 @@ int runCalibrateCli(int argc, const char* const argv[], std::ostream& out, std::
 
   try {
     const TireParams initial = loadTireParams(args.get("params"));
-    const RunTable runs = readRunTable(args.get("runs"));
+    RunTable runs = readRunTable(args.get("runs"));
+    const std::vector<std::string> warnings = screenSideForceSigns(initial, options.orientation, &runs);
+    for (const std::string& w : warnings) err << "warning: " << w << "\n";
     const CalibrationResult result = calibrate(initial, runs, options);
     out << "calibration of " << initial.name << " to " << args.get("runs") << " (" << runs.runs.size()
         << " runs), target " << targetName(result.target) << ", orientation "
@@ -121,7 +124,9 @@ int runCalibrateCli(int argc, const char* const argv[], std::ostream& out, std::
       err << "error: cannot write " << args.get("json") << "\n";
       return kExitData;
     }
-    json << calibrationToJson(result).dump(2) << "\n";
+    nlohmann::json summary = calibrationToJson(result);
+    summary["data_warnings"] = warnings;
+    json << summary.dump(2) << "\n";
     if (args.has("out-params")) {
       std::ostringstream comment;
       comment << "Calibrated by tread_wear_calibrate: fit " << args.get("runs") << ", parameters";

@@ -294,10 +294,6 @@ double heldOutImprovementPValue(const FittedModel& candidate, const FittedModel&
   return wilcoxonSignedRankPValue(differences);
 }
 
-/// Runs whose predicted side force is below this share of the load [-] are not screened by sign: there turn slip
-/// or the model's own error can flip it. Above it the sign follows the slip angle.
-constexpr double kSignCheckShareOfLoad = 0.1;
-
 }  // namespace
 
 DiagnosisOptions::DiagnosisOptions() {
@@ -333,37 +329,6 @@ std::vector<double> relativeResiduals(const DiagnosisData& data, const Predictio
     if (std::isfinite(meas)) r[i] = prediction.value(output, static_cast<int>(i)) / meas - 1.0;
   }
   return r;
-}
-
-void screenSideForceSigns(const TireParams& base, const ExtendedModelOptions& model_options, DiagnosisData* data) {
-  const ExtendedModel model(base, model_options, {}, *data);
-  Prediction pred;
-  if (!model.predict({1.0, 1.0}, &pred)) return;
-  constexpr int kFy = static_cast<int>(Output::kSideForce);
-  std::vector<int> opposite;
-  int compared = 0;
-  for (std::size_t i = 0; i < data->runs.size(); ++i) {
-    const DiagnosisRun& run = data->runs[i];
-    const double predicted = pred.value(Output::kSideForce, static_cast<int>(i));
-    if (!(std::isfinite(run.measured[kFy]) && std::fabs(predicted) >= kSignCheckShareOfLoad * run.op.load_n)) continue;
-    ++compared;
-    if ((run.measured[kFy] > 0.0) != (predicted > 0.0)) opposite.push_back(static_cast<int>(i));
-  }
-  auto describe = [&](int i) {
-    return "run " + std::to_string(i + 1) + " (condition '" + data->runs[i].condition + "'): measured side force " +
-           format(data->runs[i].measured[kFy]) + " N has the opposite sign of the model's " +
-           format(pred.value(Output::kSideForce, i)) + " N";
-  };
-  if (2 * static_cast<int>(opposite.size()) > compared)
-    throw DiagnosisError("measured side forces have the opposite sign of the model's on " +
-                         std::to_string(opposite.size()) + " of " + std::to_string(compared) + " runs (first: " +
-                         describe(opposite.front()) + "). The recordings are probably in another axis convention: " +
-                         "tread_wear expects ISO 8855 (Fy > 0 for a negative slip angle; docs/run_table.md)");
-  for (int i : opposite) {
-    data->warnings.push_back(describe(i) + "; left out of the fit");
-    data->runs[i].measured[kFy] = kNaN;
-    --data->measured_count[kFy];
-  }
 }
 
 double fittedValue(const FittedModel& model, const std::string& name, double* std_error) {

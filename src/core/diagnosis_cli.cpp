@@ -10,6 +10,7 @@
 #include "tread_wear/core/diagnosis/harness.h"
 #include "tread_wear/core/diagnosis/report.h"
 #include "tread_wear/core/params_io.h"
+#include "tread_wear/core/recording_checks.h"
 
 namespace tread_wear {
 namespace diagnosis {
@@ -73,10 +74,11 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
   try {
     const TireParams params = loadTireParams(a.get("params"));
     const std::string source = a.has("runs") ? a.get("runs") : a.get("bag");
-    const RunTable table = a.has("runs") ? readRunTable(source) : bag_reader(source);
+    RunTable table = a.has("runs") ? readRunTable(source) : bag_reader(source);
+    const std::vector<std::string> warnings = screenSideForceSigns(params, opt.model.orientation, &table);
+    for (const std::string& w : warnings) err << "tread_wear_diagnose: warning: " << w << "\n";
     DiagnosisData data = buildDiagnosisData(table);
-    screenSideForceSigns(params, opt.model, &data);
-    for (const std::string& w : data.warnings) err << "tread_wear_diagnose: warning: " << w << "\n";
+    data.warnings = warnings;
     const DiagnosisResult result = diagnose(params, data, opt);
     const std::filesystem::path dir(a.get("report"));
     std::filesystem::create_directories(dir);

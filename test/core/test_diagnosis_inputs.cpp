@@ -1,17 +1,14 @@
 // Malformed inputs of the diagnosis tools get clear errors and the documented exit codes.
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "tread_wear/core/diagnosis/cli.h"
 #include "tread_wear/core/diagnosis/data.h"
-#include "tread_wear/core/diagnosis/diagnosis.h"
 #include "tread_wear/core/diagnosis/extensions.h"
 #include "tread_wear/core/diagnosis/harness.h"
-#include "tread_wear/core/params_io.h"
 
 using namespace tread_wear;
 using namespace tread_wear::diagnosis;
@@ -97,32 +94,6 @@ TEST(DiagnosisInputs, TermsNeedTheirCovariates) {
   EXPECT_FALSE(termApplicable(Term::kLoadFluctuation, d, &why));
   EXPECT_TRUE(termApplicable(Term::kTurnSlipOrientation, d, &why));
   EXPECT_TRUE(termApplicable(Term::kLateralCompliance, d, &why));
-}
-
-// A side force of the opposite sign of the model's (which predicts ~50 N here) is no physics any term could add:
-// one such run is left out with a warning; all of them is another axis convention, an error.
-TEST(DiagnosisInputs, SideForceOfTheWrongSignIsScreened) {
-  const TireParams params = loadTireParams(kParams);
-  RunTable t;
-  for (int i = 0; i < 6; ++i) t.runs.push_back(rigRun(50.0 + i));
-  t.runs[4].measured_side_force_n = -5.0;
-  DiagnosisData d = buildDiagnosisData(t);
-  screenSideForceSigns(params, ExtendedModelOptions{}, &d);
-  ASSERT_EQ(d.warnings.size(), 1u);
-  EXPECT_NE(d.warnings[0].find("run 5"), std::string::npos) << d.warnings[0];
-  EXPECT_TRUE(std::isnan(d.runs[4].measured[0]));
-  EXPECT_EQ(d.runs[4].measured[1], 6e-7) << "the run's wear stays";
-  EXPECT_EQ(d.measured_count[0], 5);
-
-  for (RunRecord& r : t.runs) r.measured_side_force_n = -std::fabs(r.measured_side_force_n);  // SAE's y axis
-  DiagnosisData flipped = buildDiagnosisData(t);
-  try {
-    screenSideForceSigns(params, ExtendedModelOptions{}, &flipped);
-    FAIL() << "expected DiagnosisError";
-  } catch (const DiagnosisError& e) {
-    EXPECT_NE(std::string(e.what()).find("6 of 6 runs"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("ISO 8855"), std::string::npos) << e.what();
-  }
 }
 
 TEST(DiagnosisInputs, CliUsageErrors) {

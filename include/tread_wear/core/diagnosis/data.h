@@ -69,7 +69,7 @@ struct DiagnosisData {
   int measured_count[kNumOutputs] = {0, 0};
   std::vector<std::string> cv_groups;  ///< cross-validation group of each run
   std::string cv_scheme;               ///< "leave one cycle out", "leave one condition out" or "leave one run out"
-  /// Values left out while screening the recordings, "run i (condition 'c'): why" (screenSideForceSigns)
+  /// Values left out while screening the recordings, "run i (condition 'c'): why" (recording_checks.h)
   std::vector<std::string> warnings;
 };
 

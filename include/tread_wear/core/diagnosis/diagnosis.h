@@ -113,13 +113,6 @@ struct DiagnosisResult {
   std::vector<std::string> log;                   ///< the selection steps in words
 };
 
-/// Screens the measured side forces by sign against the base model's (its level parameters scale the force,
-/// never flip it). A run whose side force has the opposite sign, where the model predicts at least 10% of the
-/// load, cannot be explained by any term: its side force is left out (NaN) and a warning added to data->warnings.
-/// @throw DiagnosisError when that is the case for most runs: the recordings are then in another axis convention
-/// than ISO 8855 (SAE's y axis points the other way), which no term can explain either.
-void screenSideForceSigns(const TireParams& base, const ExtendedModelOptions& model, DiagnosisData* data);
-
 /// Runs the whole diagnosis. @throw std::invalid_argument for invalid options or parameters.
 DiagnosisResult diagnose(const TireParams& base, const DiagnosisData& data, const DiagnosisOptions& options);
 
