@@ -1,16 +1,19 @@
 /// Accuracy table of the wear-model presets against a fine reference (docs/performance.md).
-///   tread_wear_accuracy [--reference marcher|cvode] [--road-params FILE] [--coarse] [--time]
+///   tread_wear_accuracy [--reference marcher|cvode] [--road-params FILE] [--coarse] [--time] [--points FILE.csv]
 ///                       [--refine LEVEL BUDGET RESOLUTION DAMPING_RATIO]
 ///                       [--grid NX NY GRADING sine|gauss|panels PASSES TOL]...
 /// Prints, for each preset (and each --grid candidate), the maximum error over the Table 3 rig grid
-/// (Grosch wheel, both orientations) and the road grid, with the worst condition. The reference is
+/// (Grosch wheel, both orientations) and the road grid, how many conditions exceed the issue-4 bounds
+/// (Fx, Fy, Mz 1%, W_r 2%, stick fraction 0.02) and the worst condition. The reference is
 /// the marcher's 'reference' preset (default) or ReferenceBrushSolver (CVODE, default options); where
 /// the CVODE solver throws, that condition falls back to the marcher reference and is counted.
+/// --points writes every condition's errors (fractions) per candidate and grid to a CSV.
 /// --refine sets BrushOptions::refinement of the --grid candidates that follow it (default: off).
 /// --time adds, per candidate and grid, the median and p99 over the conditions of the thread CPU time
 /// of one evaluation (minimum of 5 repetitions per condition, which filters out most of the noise of a
 /// shared machine; tread_wear_bench gives the percentiles over all samples).
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -76,13 +79,24 @@ std::vector<WearResult> cvodeAll(const TireParams& params, const std::vector<ben
 }
 
 void report(const std::string& name, const std::string& set, const std::vector<bench::Condition>& conditions,
-            const std::vector<WearResult>& ref, const std::vector<WearResult>& res, std::vector<double> cpu_us) {
+            const std::vector<WearResult>& ref, const std::vector<WearResult>& res, std::vector<double> cpu_us,
+            std::FILE* points) {
   bench::Errors worst;
   size_t worst_k[3] = {0, 0, 0};
   double worst_v[3] = {0, 0, 0};
+  int over[5] = {0, 0, 0, 0, 0};  // conditions beyond the issue's bounds: Fx, Fy, Mz 1%; W_r 2%; stick 0.02
   for (size_t k = 0; k < conditions.size(); ++k) {
     const bench::Errors e = bench::compare(ref[k], res[k], conditions[k].op.load_n);
     worst.maxWith(e);
+    const double ratio[5] = {e.fx / 0.01, e.fy / 0.01, e.mz / 0.01, e.wear / 0.02, e.stick / 0.02};
+    for (int q = 0; q < 5; ++q) over[q] += ratio[q] > 1.0;
+    if (points) {
+      const OperatingPoint& op = conditions[k].op;
+      std::fprintf(points, "\"%s\",%s,%s,%g,%g,%g,%g,%g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", name.c_str(), set.c_str(),
+                   conditions[k].orientation == TurnSlipOrientation::kLiteral ? "literal" : "flipped", op.speed_mps,
+                   op.slip_angle_rad * 180.0 / M_PI, op.slip_ratio, op.path_curvature_per_m, op.load_n, e.fx, e.fy,
+                   e.mz, e.wear, e.stick, e.exact_stick);
+    }
     const double f = std::max({e.fx, e.fy, e.mz}) / 0.01, w = e.wear / 0.02, a = std::max(e.stick, e.exact_stick) / 0.02;
     const double v[3] = {f, w, a};
     for (int q = 0; q < 3; ++q)
@@ -96,9 +110,11 @@ void report(const std::string& name, const std::string& set, const std::vector<b
                   cpu_us[std::min(cpu_us.size() - 1, static_cast<size_t>(0.99 * cpu_us.size()))]);
     timing = buf;
   }
-  std::printf("%-28s %-5s %7.3f%% %7.3f%% %7.3f%% %7.3f%% %7.4f %7.4f | worst F: %s | worst W: %s%s\n", name.c_str(),
-              set.c_str(), 100 * worst.fx, 100 * worst.fy, 100 * worst.mz, 100 * worst.wear, worst.stick,
-              worst.exact_stick, conditions[worst_k[0]].label.c_str(), conditions[worst_k[1]].label.c_str(), timing.c_str());
+  std::printf("%-28s %-5s %7.3f%% %7.3f%% %7.3f%% %7.3f%% %7.4f %7.4f | over bounds (Fx Fy Mz W_r stick): %d %d %d %d %d of %zu"
+              " | worst F: %s | worst W: %s%s\n",
+              name.c_str(), set.c_str(), 100 * worst.fx, 100 * worst.fy, 100 * worst.mz, 100 * worst.wear, worst.stick,
+              worst.exact_stick, over[0], over[1], over[2], over[3], over[4], conditions.size(),
+              conditions[worst_k[0]].label.c_str(), conditions[worst_k[1]].label.c_str(), timing.c_str());
 }
 
 }  // namespace
@@ -108,6 +124,7 @@ int main(int argc, char** argv) {
   bool coarse = false;
   bool use_cvode = false;
   bool time = false;
+  std::string points_path;
   RefinementOptions refine;
   std::vector<Candidate> candidates;
   for (Preset p : {Preset::kFast, Preset::kStandard, Preset::kReference}) candidates.push_back({presetName(p), presetOptions(p)});
@@ -118,6 +135,8 @@ int main(int argc, char** argv) {
       use_cvode = !std::strcmp(argv[++i], "cvode");
     } else if (!std::strcmp(argv[i], "--coarse")) {
       coarse = true;
+    } else if (!std::strcmp(argv[i], "--points") && i + 1 < argc) {
+      points_path = argv[++i];
     } else if (!std::strcmp(argv[i], "--time")) {
       time = true;
     } else if (!std::strcmp(argv[i], "--refine") && i + 4 < argc) {
@@ -140,7 +159,7 @@ int main(int argc, char** argv) {
       i += 6;
     } else {
       std::fprintf(stderr,
-                   "usage: %s [--reference marcher|cvode] [--road-params FILE] [--coarse] [--time] "
+                   "usage: %s [--reference marcher|cvode] [--road-params FILE] [--coarse] [--time] [--points FILE.csv] "
                    "[--refine LEVEL BUDGET RESOLUTION DAMPING_RATIO] [--grid NX NY GRADING sine|gauss|panels PASSES TOL]...\n",
                    argv[0]);
       return 2;
@@ -163,14 +182,25 @@ int main(int argc, char** argv) {
               use_cvode ? ("ReferenceBrushSolver (CVODE), " + std::to_string(failures) + " condition(s) fell back to the marcher").c_str()
                         : "marcher preset 'reference' (1600 x 64)",
               road.name.c_str(), nominal, roadset.size(), rig.size());
+  std::FILE* points = nullptr;
+  if (!points_path.empty()) {
+    points = std::fopen(points_path.c_str(), "w");
+    if (!points) {
+      std::fprintf(stderr, "cannot write %s\n", points_path.c_str());
+      return 1;
+    }
+    std::fprintf(points, "candidate,grid,orientation,speed_mps,slip_angle_deg,slip_ratio,path_curvature_per_m,load_n,"
+                         "err_fx,err_fy,err_mz,err_wear,err_stick,err_exact_stick\n");
+  }
   std::printf("%-28s %-5s %8s %8s %8s %8s %7s %7s\n", "preset", "grid", "Fx", "Fy", "Mz", "W_r", "stick", "exact");
   for (const Candidate& c : candidates) {
     std::vector<double> cpu_rig, cpu_road;
     const bool timed = time && c.name != presetName(Preset::kReference);
     const auto res_rig = evaluateAll(grosch, c.options, rig, timed ? &cpu_rig : nullptr);
     const auto res_road = evaluateAll(road, c.options, roadset, timed ? &cpu_road : nullptr);
-    report(c.name, "rig", rig, ref_rig, res_rig, cpu_rig);
-    report(c.name, "road", roadset, ref_road, res_road, cpu_road);
+    report(c.name, "rig", rig, ref_rig, res_rig, cpu_rig, points);
+    report(c.name, "road", roadset, ref_road, res_road, cpu_road, points);
   }
+  if (points) std::fclose(points);
   return 0;
 }
