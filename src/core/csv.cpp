@@ -21,6 +21,16 @@ std::string trim(const std::string& s) {
 bool splitLine(const std::string& raw, std::vector<std::string>* cells, std::string* error) {
   cells->clear();
   const std::string line = (!raw.empty() && raw.back() == '\r') ? raw.substr(0, raw.size() - 1) : raw;
+  for (std::size_t k = 0; k < line.size(); ++k) {
+    const unsigned char c = static_cast<unsigned char>(line[k]);
+    if ((c < 0x20 && c != '\t') || c == 0x7f) {  // a binary or corrupt file: say so instead of echoing its bytes
+      char code[8];
+      std::snprintf(code, sizeof(code), "0x%02x", c);
+      if (error) *error = std::string("control character ") + code + " at byte " + std::to_string(k + 1) +
+                          ": not a text CSV file (binary or corrupt?)";
+      return false;
+    }
+  }
   std::size_t i = 0;
   while (true) {
     std::size_t start = i;

@@ -165,6 +165,9 @@ TEST(RunTable, Errors) {
               "3:4:", {"wear_rate_kg_per_m", "disagrees"});
   expectError(kMarker + "speed_mps,slip_angle_rad,load_n,cycle_id\n2,0.1,75,1.5\n", "3:4:", {"cycle_id", "integer"});
   expectError(kMarker + "speed_mps,slip_angle_rad,load_n,note\n2,0.1,75,\"open\n", "3:", {"unterminated quote"});
+  // A binary file's bytes are named, not echoed.
+  expectError(kMarker + kHeader + "2,0.1,75," + std::string(1, '\0') + "\x01\n", "3:",
+              {"control character 0x00 at byte 10", "not a text CSV"});
 }
 
 }  // namespace

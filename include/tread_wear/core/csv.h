@@ -9,8 +9,8 @@
 namespace tread_wear {
 namespace csv {
 
-/// Splits one line into cells (a trailing '\r' is dropped). False with *error set on an unterminated quote
-/// or text after a closing quote.
+/// Splits one line into cells (a trailing '\r' is dropped). False with *error set on an unterminated quote,
+/// text after a closing quote or a control character other than tab (a binary or corrupt file).
 bool splitLine(const std::string& line, std::vector<std::string>* cells, std::string* error);
 /// True when the whole cell is a finite decimal number; "nan", "inf", empty and text are rejected.
 bool parseFiniteDouble(const std::string& cell, double* value);
