@@ -374,7 +374,9 @@ DiagnosisResult diagnose(const TireParams& base, const DiagnosisData& data, cons
   result.located_before = locate(data, result.base.prediction, options, &result.not_located);
 
   // 4. Explain: forward selection.
-  std::vector<Term> pool = options.candidates;
+  std::vector<Term> pool;
+  for (Term t : options.candidates)  // each term once: a repeat would be fitted twice and count twice in Bonferroni
+    if (std::find(pool.begin(), pool.end(), t) == pool.end()) pool.push_back(t);
   if (pool.empty())
     for (const TermInfo& t : termLibrary()) pool.push_back(t.term);
   std::vector<Term> applicable;

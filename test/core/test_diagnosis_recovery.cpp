@@ -100,6 +100,27 @@ TEST(DiagnosisRecovery, NoiseFreeRecordings) {
   EXPECT_NEAR(fittedValue(offset.result.final_model, "side_force_offset_n"), 4.0, 1e-4);
 }
 
+// A term named twice among the candidates is fitted once and counts once in the Bonferroni threshold.
+TEST(DiagnosisRecovery, RepeatedCandidateCountsOnce) {
+  ConcealSpec spec;
+  spec.effect = "sensor_offset";
+  spec.magnitude = 4.0;
+  spec.design = "small";
+  spec.wear_noise_rsd = 0.01;
+  spec.side_force_noise_n = 0.2;
+  const TireParams base;
+  const ConcealCase c = concealEffect(base, spec);
+  DiagnosisOptions opt;
+  opt.max_terms = 1;
+  opt.permutations = 999;
+  opt.candidates = {Term::kSensorOffset, Term::kSensorOffset, Term::kSensorGain};
+  const DiagnosisResult r = diagnose(base, buildDiagnosisData(c.table), opt);
+  EXPECT_EQ(r.tried.size(), 2u);
+  ASSERT_FALSE(r.log.empty());
+  EXPECT_NE(r.log[0].find("2 terms tried"), std::string::npos) << r.log[0];
+  EXPECT_EQ(r.explanation, "sensor_offset");
+}
+
 TEST(DiagnosisRecovery, ThermalWear) { expectRecovered("thermal_wear", 30.0); }
 TEST(DiagnosisRecovery, ThermalFriction) { expectRecovered("thermal_friction", 0.005); }
 TEST(DiagnosisRecovery, SurfacePolishing) { expectRecovered("surface_polishing", 0.6); }

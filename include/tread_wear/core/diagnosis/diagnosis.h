@@ -49,7 +49,7 @@ struct DiagnosisOptions {
   int max_cv_candidates = 3;       ///< eligible terms cross-validated per step, >= 1
   int permutations = 9999;         ///< per locating test, >= 99
   std::uint64_t seed = 7;          ///< permutation seed
-  std::vector<Term> candidates;    ///< terms to try; empty = the whole library
+  std::vector<Term> candidates;    ///< terms to try (repeats count once); empty = the whole library
   LeastSquaresOptions solver;      ///< least-squares settings
 
   DiagnosisOptions();
