@@ -19,7 +19,9 @@ std::vector<std::string> screenSideForceSigns(const TireParams& params, TurnSlip
   int checked = 0;
   for (std::size_t i = 0; i < table->runs.size(); ++i) {
     const RunRecord& run = table->runs[i];
-    if (!std::isfinite(run.measured_side_force_n) || !run.op.validate(nullptr)) continue;
+    // Zero has no sign (the tools reject it as a measurement themselves); invalid conditions are reported there too.
+    if (!std::isfinite(run.measured_side_force_n) || run.measured_side_force_n == 0.0 || !run.op.validate(nullptr))
+      continue;
     WearResult predicted;
     model.evaluate(run.op, &predicted);
     if (!(std::fabs(predicted.fy_n) >= kSideForceSignCheckShareOfLoad * run.op.load_n)) continue;

@@ -53,6 +53,11 @@ TEST(SideForceSigns, SmallPredictedForcesAreNotJudged) {
   }
   EXPECT_TRUE(screenSideForceSigns(loadTireParams(kParams), TurnSlipOrientation::kLiteral, &t).empty());
   EXPECT_EQ(t.runs[0].measured_side_force_n, -0.5);
+
+  RunTable zero = rigRuns(4);  // zero has no sign: left to the tools' own check of the measurement
+  zero.runs[1].measured_side_force_n = 0.0;
+  EXPECT_TRUE(screenSideForceSigns(loadTireParams(kParams), TurnSlipOrientation::kLiteral, &zero).empty());
+  EXPECT_EQ(zero.runs[1].measured_side_force_n, 0.0);
 }
 
 TEST(SideForceSigns, AnotherAxisConventionIsAnError) {

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "tread_wear/core/run_table.h"
 #include "tread_wear/core/brush_wear_model.h"
+#include "tread_wear/core/run_table.h"
 
 namespace tread_wear {
 
