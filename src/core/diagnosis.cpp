@@ -200,9 +200,11 @@ void pureError(const DiagnosisData& data, double* scale, int* dof) {
   }
 }
 
-/// Locating tests of both outputs' residuals; `not_tested` (if given) gets the outputs without tests and why.
-std::vector<LocatedEffect> locate(const DiagnosisData& data, const Prediction& prediction,
-                                  const DiagnosisOptions& options, std::vector<std::string>* not_tested = nullptr) {
+/// Locating tests of both outputs' residuals of `model`; `not_tested` (if given) gets the outputs without tests
+/// and why.
+std::vector<LocatedEffect> locate(const DiagnosisData& data, const FittedModel& model, const DiagnosisOptions& options,
+                                  std::vector<std::string>* not_tested = nullptr) {
+  const Prediction& prediction = model.prediction;
   std::vector<LocatedEffect> tests;
   std::uint64_t seed = options.seed;
   for (int o = 0; o < kNumOutputs; ++o) {
@@ -218,16 +220,12 @@ std::vector<LocatedEffect> locate(const DiagnosisData& data, const Prediction& p
       skip(std::to_string(idx.size()) + " measured runs, the locating tests need " + std::to_string(kMinRunsToLocate));
       continue;
     }
-    std::vector<double> y;
-    double ss = 0.0;
-    for (int i : idx) {
-      y.push_back(res[i]);
-      ss += res[i] * res[i];
-    }
-    if (std::sqrt(ss / y.size()) < kNumericalResolution) {
+    if (model.rmser[o] < kNumericalResolution) {
       skip("reproduced within numerical resolution, nothing to locate");
       continue;
     }
+    std::vector<double> y;
+    for (int i : idx) y.push_back(res[i]);
     std::vector<Covariate> covariates = data.covariates;
     std::vector<double> level;
     for (std::size_t i = 0; i < data.runs.size(); ++i) level.push_back(prediction.value(out, static_cast<int>(i)));
@@ -371,7 +369,7 @@ DiagnosisResult diagnose(const TireParams& base, const DiagnosisData& data, cons
   result.base = reweight(result.base);
 
   // 3. Locate.
-  result.located_before = locate(data, result.base.prediction, options, &result.not_located);
+  result.located_before = locate(data, result.base, options, &result.not_located);
 
   // 4. Explain: forward selection.
   std::vector<Term> pool;
@@ -449,7 +447,7 @@ DiagnosisResult diagnose(const TireParams& base, const DiagnosisData& data, cons
     current = reweight(fits[best]);
   }
   result.final_model = current;
-  result.located_after = locate(data, current.prediction, options);
+  result.located_after = locate(data, current, options);
 
   // 5. Verdict.
   const bool located = std::any_of(result.located_before.begin(), result.located_before.end(),
