@@ -9,6 +9,7 @@
 #include "tread_wear/core/diagnosis/data.h"
 #include "tread_wear/core/diagnosis/extensions.h"
 #include "tread_wear/core/diagnosis/harness.h"
+#include "rig_run.h"
 
 using namespace tread_wear;
 using namespace tread_wear::diagnosis;
@@ -44,18 +45,6 @@ std::string tempFile(const std::string& name, const std::string& text) {
   const std::filesystem::path p = std::filesystem::temp_directory_path() / ("tw_diag_" + name);
   std::ofstream(p) << text;
   return p.string();
-}
-
-RunRecord rigRun(double fy) {
-  RunRecord r;
-  r.op.speed_mps = 2.0;
-  r.op.slip_angle_rad = -0.17;
-  r.op.path_curvature_per_m = 1.0 / 0.06;
-  r.op.load_n = 75.0;
-  r.measured_side_force_n = fy;
-  r.measured_wear_rate_kg_per_m = 6e-7;
-  r.condition_id = "bench";
-  return r;
 }
 
 }  // namespace

@@ -24,8 +24,9 @@ struct Recovery {
   HarnessOutcome outcome;
 };
 
-Recovery run(const std::string& effect, double magnitude, double wear_noise_rsd = 0.01, double side_force_noise_n = 0.2,
-             int max_terms = 1) {
+/// A case of the small 18-run design at low noise (wear RSD 1%, side force 0.2 N unless given), seed 11.
+ConcealSpec smallCase(const std::string& effect, double magnitude, double wear_noise_rsd = 0.01,
+                      double side_force_noise_n = 0.2) {
   ConcealSpec spec;
   spec.effect = effect;
   spec.magnitude = magnitude;
@@ -33,6 +34,12 @@ Recovery run(const std::string& effect, double magnitude, double wear_noise_rsd 
   spec.wear_noise_rsd = wear_noise_rsd;
   spec.side_force_noise_n = side_force_noise_n;
   spec.seed = 11;
+  return spec;
+}
+
+Recovery run(const std::string& effect, double magnitude, double wear_noise_rsd = 0.01, double side_force_noise_n = 0.2,
+             int max_terms = 1) {
+  const ConcealSpec spec = smallCase(effect, magnitude, wear_noise_rsd, side_force_noise_n);
   const TireParams base;
   const ConcealCase c = concealEffect(base, spec);
   const DiagnosisData data = buildDiagnosisData(c.table);
@@ -102,14 +109,8 @@ TEST(DiagnosisRecovery, NoiseFreeRecordings) {
 
 // A term named twice among the candidates is fitted once and counts once in the Bonferroni threshold.
 TEST(DiagnosisRecovery, RepeatedCandidateCountsOnce) {
-  ConcealSpec spec;
-  spec.effect = "sensor_offset";
-  spec.magnitude = 4.0;
-  spec.design = "small";
-  spec.wear_noise_rsd = 0.01;
-  spec.side_force_noise_n = 0.2;
   const TireParams base;
-  const ConcealCase c = concealEffect(base, spec);
+  const ConcealCase c = concealEffect(base, smallCase("sensor_offset", 4.0));
   DiagnosisOptions opt;
   opt.max_terms = 1;
   opt.permutations = 999;
@@ -134,14 +135,8 @@ TEST(DiagnosisRecovery, SensorOffset) { expectRecovered("sensor_offset", 4.0); }
 // Wear that follows a recorded covariate no library term knows (here humidity) is a mismatch the library cannot
 // explain: the verdict is "unexplained" and the covariate is named.
 TEST(DiagnosisRecovery, EffectOutsideTheLibraryIsUnexplained) {
-  ConcealSpec spec;
-  spec.effect = "none";
-  spec.design = "small";
-  spec.wear_noise_rsd = 0.01;
-  spec.side_force_noise_n = 0.2;
-  spec.seed = 11;
   const TireParams base;
-  ConcealCase c = concealEffect(base, spec);
+  ConcealCase c = concealEffect(base, smallCase("none", std::nan("")));
   std::mt19937 draws(7);
   std::uniform_real_distribution<double> humidity(0.2, 0.8);
   c.table.covariate_names.push_back("humidity");

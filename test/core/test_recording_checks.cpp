@@ -9,6 +9,7 @@
 #include "tread_wear/core/calibration_cli.h"
 #include "tread_wear/core/params_io.h"
 #include "tread_wear/core/recording_checks.h"
+#include "rig_run.h"
 #include "temp_file.h"
 
 namespace tread_wear {
@@ -18,17 +19,7 @@ const std::string kParams = std::string(TREAD_WEAR_SOURCE_DIR) + "/config/tires/
 
 RunTable rigRuns(int n) {
   RunTable t;
-  for (int i = 0; i < n; ++i) {
-    RunRecord r;
-    r.op.speed_mps = 2.0;
-    r.op.slip_angle_rad = -0.17;
-    r.op.path_curvature_per_m = 1.0 / 0.06;
-    r.op.load_n = 75.0;
-    r.measured_side_force_n = 50.0 + i;
-    r.measured_wear_rate_kg_per_m = 6e-7;
-    r.condition_id = "bench";
-    t.runs.push_back(r);
-  }
+  for (int i = 0; i < n; ++i) t.runs.push_back(rigRun(50.0 + i));
   return t;
 }
 
