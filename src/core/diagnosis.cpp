@@ -292,6 +292,20 @@ double heldOutImprovementPValue(const FittedModel& candidate, const FittedModel&
   return wilcoxonSignedRankPValue(differences);
 }
 
+/// Partial F test of `f` (the parent plus `added`) against the parent. A term with one parameter whose no-effect
+/// value is a bound (a polishing rate, a compliance, a load-std scale: none can be negative) gets the boundary
+/// version while its estimate is off the bound; on the bound the RSS is the parent's and the plain p (~1) stands.
+double pValueVsParent(const FittedModel& parent, const FittedModel& f, Term added) {
+  const int dof = f.n_residuals - f.k;
+  const TermInfo& info = termInfo(added);
+  if (neutralOnBound(info)) {
+    const std::string& name = info.parameters.front().name;
+    for (const ParameterEstimate& p : f.summary.parameters)
+      if (p.name == name && !p.atBound()) return nestedFTestPValueOnBound(parent.rss, f.rss, dof);
+  }
+  return nestedFTestPValue(parent.rss, f.rss, std::max(1, f.k - parent.k), dof);
+}
+
 }  // namespace
 
 DiagnosisOptions::DiagnosisOptions() {
@@ -398,9 +412,7 @@ DiagnosisResult diagnose(const TireParams& base, const DiagnosisData& data, cons
       terms.push_back(t);
       FittedModel f = fitter.fit(terms, valuesByName(current), false);
       f.parent = current.label;
-      if (f.usable)
-        f.p_vs_parent = nestedFTestPValue(current.rss, f.rss, std::max(1, f.k - current.k),
-                                          f.n_residuals - f.k);
+      if (f.usable) f.p_vs_parent = pValueVsParent(current, f, t);
       fits.push_back(std::move(f));
     }
     if (fits.empty()) break;
@@ -447,7 +459,7 @@ DiagnosisResult diagnose(const TireParams& base, const DiagnosisData& data, cons
     current = reweight(fits[best]);
   }
   result.final_model = current;
-  result.located_after = locate(data, current, options);
+  result.located_after = locate(data, current, options, &result.not_located_after);
 
   // 5. Verdict.
   const bool located = std::any_of(result.located_before.begin(), result.located_before.end(),

@@ -66,6 +66,12 @@ const std::vector<TermInfo>& termLibrary() {
 
 const TermInfo& termInfo(Term term) { return termLibrary().at(static_cast<int>(term)); }
 
+bool neutralOnBound(const TermInfo& info) {
+  if (info.parameters.size() != 1) return false;
+  const TermParameterSpec& p = info.parameters.front();
+  return p.neutral == p.lower || p.neutral == p.upper;
+}
+
 bool parseTerm(const std::string& name, Term* term) {
   for (const TermInfo& t : termLibrary())
     if (t.name == name) {

@@ -124,8 +124,10 @@ HarnessOutcome scoreCase(const HarnessCase& c, const ConcealAnswer& answer, cons
       const double scale =
           std::isfinite(answer.primary_neutral) ? std::abs(o.truth - answer.primary_neutral) : std::abs(o.truth);
       o.parameter_ok = std::abs(o.estimate - o.truth) <= kParameterTolerance * scale;
+      o.parameter_ok_relative = std::abs(o.estimate - o.truth) <= kParameterTolerance * std::abs(o.truth);
     }
   }
+  o.all_met = o.right && (!o.parameter_scored || o.parameter_ok) && o.improved;
   return o;
 }
 
@@ -169,7 +171,8 @@ std::vector<HarnessOutcome> runHarness(const TireParams& base, const HarnessOpti
 
 std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
   struct Tally {
-    int n = 0, right = 0, pscored = 0, pok = 0, pestimated = 0, pcovered = 0, iscored = 0, iok = 0, errors = 0;
+    int n = 0, right = 0, pscored = 0, pok = 0, pok_relative = 0, pestimated = 0, pcovered = 0, iscored = 0, iok = 0,
+        all_met = 0, errors = 0;
   };
   std::map<std::tuple<std::string, std::string, double>, Tally> rows;
   std::map<std::pair<std::string, double>, Tally> per_effect;
@@ -185,6 +188,8 @@ std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
       t->right += o.right;
       t->pscored += o.parameter_scored;
       t->pok += o.parameter_ok;
+      t->pok_relative += o.parameter_ok_relative;
+      t->all_met += o.all_met;
       t->pestimated += o.parameter_estimated;
       t->pcovered += o.parameter_covered;
       t->iscored += o.improved_scored;
@@ -217,6 +222,8 @@ std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
       dst.n += t.n - t.errors;
       dst.right += t.right;
       dst.pok += t.pok;
+      dst.pok_relative += t.pok_relative;
+      dst.all_met += t.all_met;
       dst.pestimated += t.pestimated;
       dst.pcovered += t.pcovered;
       dst.pscored += t.pscored;
@@ -229,7 +236,9 @@ std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
       << ", parameter within 25% " << pctWithInterval(effects.pok, effects.pscored)
       << " (when selected, truth within 2 standard errors " << pctWithInterval(effects.pcovered, effects.pestimated)
       << "), held-out RMSER improved " << pctWithInterval(effects.iok, effects.iscored) << "; controls `none` "
-      << pctWithInterval(controls.right, controls.n) << ".\n";
+      << pctWithInterval(controls.right, controls.n) << ". Parameter within 25% of its own value (|estimate - "
+      << "truth| <= 0.25 |truth|) " << pctWithInterval(effects.pok_relative, effects.pscored)
+      << "; right, parameter and improved in the same case " << pctWithInterval(effects.all_met, effects.n) << ".\n";
   }
   return s.str();
 }
@@ -238,11 +247,13 @@ std::string harnessCsv(const std::vector<HarnessOutcome>& outcomes) {
   std::ostringstream s;
   s << std::setprecision(8);
   s << "effect,magnitude_label,magnitude,wear_noise_rsd,side_force_noise_n,seed,explanation,right,parameter_ok,"
-       "estimate,truth,std_error,covered,improved,cv_before_side_force,cv_before_wear,cv_after_side_force,cv_after_wear,seconds,error\n";
+       "parameter_ok_relative,all_met,estimate,truth,std_error,covered,improved,cv_before_side_force,cv_before_wear,cv_after_side_force,cv_after_wear,seconds,error\n";
   for (const HarnessOutcome& o : outcomes)
     s << o.c.spec.effect << "," << o.c.magnitude_label << "," << o.c.spec.magnitude << "," << o.c.spec.wear_noise_rsd
       << "," << o.c.spec.side_force_noise_n << "," << o.c.spec.seed << "," << o.explanation << "," << o.right << ","
-      << (o.parameter_scored ? std::to_string(o.parameter_ok) : "") << "," << o.estimate << "," << o.truth << ","
+      << (o.parameter_scored ? std::to_string(o.parameter_ok) : "") << ","
+      << (o.parameter_scored ? std::to_string(o.parameter_ok_relative) : "") << ","
+      << (o.c.spec.effect == "none" ? "" : std::to_string(o.all_met)) << "," << o.estimate << "," << o.truth << ","
       << o.std_error << "," << (o.parameter_estimated ? std::to_string(o.parameter_covered) : "") << ","
       << (o.improved_scored ? std::to_string(o.improved) : "") << "," << o.cv_before[0] << "," << o.cv_before[1]
       << "," << o.cv_after[0] << "," << o.cv_after[1] << "," << o.seconds << ",\"" << o.error << "\"\n";

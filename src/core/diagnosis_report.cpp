@@ -118,6 +118,7 @@ nlohmann::json diagnosisJson(const DiagnosisResult& r, const DiagnosisData& data
   j["skipped_terms"] = r.skipped_terms;
   j["data_warnings"] = data.warnings;
   j["not_located"] = r.not_located;
+  j["not_located_after"] = r.not_located_after;
   j["selection_log"] = r.log;
   j["runs"] = data.runs.size();
   j["measured"] = {{"side_force", data.measured_count[0]}, {"wear", data.measured_count[1]}};
@@ -197,6 +198,7 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
   for (const LocatedEffect& e : r.located_after)
     if (e.significant) m << " " << outputName(e.output) << "/`" << e.covariate << "`";
   m << "\n";
+  for (const std::string& why : r.not_located_after) m << "\nNot tested after: " << why << ".\n";
   if (!plots.empty()) {
     m << "\n## Plots\n\n";
     for (const std::string& p : plots) m << "![" << p << "](" << p << ")\n\n";

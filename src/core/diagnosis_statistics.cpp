@@ -198,6 +198,11 @@ double nestedFTestPValue(double rss_small, double rss_large, int extra_parameter
   return fDistributionUpperTail(f, extra_parameters, dof_large);
 }
 
+double nestedFTestPValueOnBound(double rss_small, double rss_large, int dof_large) {
+  const double p = nestedFTestPValue(rss_small, rss_large, 1, dof_large);
+  return p < 1.0 ? 0.5 * p : 1.0;
+}
+
 double wilcoxonSignedRankPValue(const std::vector<double>& d) {
   std::vector<double> magnitude, sign;
   for (double v : d)
@@ -206,6 +211,7 @@ double wilcoxonSignedRankPValue(const std::vector<double>& d) {
       sign.push_back(v > 0.0 ? 1.0 : -1.0);
     }
   if (magnitude.empty()) return 1.0;
+  if (static_cast<int>(magnitude.size()) > kWilcoxonExactMaxDifferences) return wilcoxonSignedRankPValueNormal(d);
   // Doubled average ranks are integers, so the null distribution of 2 W+ is a count over integer sums.
   const std::vector<double> ranks = averageRanks(magnitude);
   std::vector<int> doubled(ranks.size());
@@ -226,6 +232,37 @@ double wilcoxonSignedRankPValue(const std::vector<double>& d) {
   double p = 0.0;
   for (int s = 0; s <= observed; ++s) p += probability[s];
   return std::min(1.0, p);
+}
+
+double wilcoxonSignedRankPValueNormal(const std::vector<double>& d) {
+  std::vector<double> magnitude;
+  std::vector<bool> positive;
+  for (double v : d)
+    if (v != 0.0) {
+      magnitude.push_back(std::abs(v));
+      positive.push_back(v > 0.0);
+    }
+  if (magnitude.empty()) return 1.0;
+  const std::vector<double> ranks = averageRanks(magnitude);
+  const double n = static_cast<double>(ranks.size());
+  double w_plus = 0.0;
+  for (std::size_t i = 0; i < ranks.size(); ++i)
+    if (positive[i]) w_plus += ranks[i];
+  // Tie correction: each group of t equal |d| lowers the variance by (t^3 - t) / 48.
+  std::vector<double> sorted = magnitude;
+  std::sort(sorted.begin(), sorted.end());
+  double ties = 0.0;
+  for (std::size_t i = 0; i < sorted.size();) {
+    std::size_t j = i;
+    while (j < sorted.size() && sorted[j] == sorted[i]) ++j;
+    const double t = static_cast<double>(j - i);
+    ties += t * t * t - t;
+    i = j;
+  }
+  const double variance = n * (n + 1.0) * (2.0 * n + 1.0) / 24.0 - ties / 48.0;
+  if (!(variance > 0.0)) return 1.0;
+  const double z = (w_plus - n * (n + 1.0) / 4.0 + 0.5) / std::sqrt(variance);  // continuity-corrected
+  return std::min(1.0, 0.5 * std::erfc(-z / std::sqrt(2.0)));
 }
 
 ProportionInterval wilsonInterval(int successes, int trials, double z) {

@@ -137,6 +137,40 @@ TEST(DiagnosisInputs, ConcealErrors) {
 }
 
 // The success-rate table counts each wear-noise level on its own: totals per level, controls apart.
+// The two readings of "parameter within 25%": of the effect (gain 1.05 -> 1.07 is 40% of the 0.05 effect off) and
+// of the value (2% of 1.05); a wrong explanation meets neither, and improved is needed for "all three".
+TEST(DiagnosisHarness, ParameterReadings) {
+  ConcealAnswer answer;
+  answer.effect = "sensor_gain";
+  answer.primary = "side_force_gain";
+  answer.primary_value = 1.05;
+  answer.primary_neutral = 1.0;
+  DiagnosisResult result;
+  result.explanation = "sensor_gain";
+  result.final_model.terms = {Term::kSensorGain};
+  ParameterEstimate gain;
+  gain.name = "side_force_gain";
+  gain.value = 1.07;
+  result.final_model.summary.parameters = {gain};
+  result.base.cv_rmser[0] = 0.03;
+  result.final_model.cv_rmser[0] = 0.02;
+  HarnessOutcome o = scoreCase(HarnessCase{}, answer, result);
+  EXPECT_TRUE(o.right);
+  EXPECT_FALSE(o.parameter_ok);
+  EXPECT_TRUE(o.parameter_ok_relative);
+  EXPECT_TRUE(o.improved);
+  EXPECT_FALSE(o.all_met);
+  result.final_model.summary.parameters[0].value = 1.06;  // 20% of the effect off
+  o = scoreCase(HarnessCase{}, answer, result);
+  EXPECT_TRUE(o.parameter_ok && o.all_met);
+  result.final_model.cv_rmser[0] = 0.04;  // worse out of sample
+  EXPECT_FALSE(scoreCase(HarnessCase{}, answer, result).all_met);
+  result.explanation = "sensor_offset";
+  result.final_model.terms = {Term::kSensorOffset};
+  o = scoreCase(HarnessCase{}, answer, result);
+  EXPECT_FALSE(o.right || o.parameter_ok || o.parameter_ok_relative || o.all_met);
+}
+
 TEST(DiagnosisHarness, TableTotalsPerNoiseLevel) {
   auto outcome = [](const std::string& effect, double noise, bool right) {
     HarnessOutcome o;
@@ -153,6 +187,7 @@ TEST(DiagnosisHarness, TableTotalsPerNoiseLevel) {
   // estimate is within 25% and the truth inside 2 standard errors.
   for (int k : {0, 1}) outcomes[k].parameter_scored = true;
   outcomes[0].parameter_estimated = outcomes[0].parameter_covered = outcomes[0].parameter_ok = true;
+  outcomes[0].parameter_ok_relative = outcomes[0].all_met = true;
   const std::string table = harnessTable(outcomes);
   // Summary rates carry 95% Wilson intervals (1/2: 9.5-90.5%, 1/1: 20.7-100%, by hand from Newcombe's formula).
   EXPECT_NE(table.find("At wear RSD 5%: right explanation 50.0% (1/2) [95% CI 9.5-90.5%], parameter within 25% "
@@ -160,7 +195,11 @@ TEST(DiagnosisHarness, TableTotalsPerNoiseLevel) {
                        "[95% CI 20.7-100.0%])"),
             std::string::npos)
       << table;
-  EXPECT_NE(table.find("controls `none` 100% (1/1) [95% CI 20.7-100.0%]."), std::string::npos) << table;
+  EXPECT_NE(table.find("controls `none` 100% (1/1) [95% CI 20.7-100.0%]. Parameter within 25% of its own value "
+                       "(|estimate - truth| <= 0.25 |truth|) 50.0% (1/2) [95% CI 9.5-90.5%]; right, parameter and "
+                       "improved in the same case 50.0% (1/2) [95% CI 9.5-90.5%]."),
+            std::string::npos)
+      << table;
   EXPECT_NE(table.find("At wear RSD 10%: right explanation 100% (1/1)"), std::string::npos) << table;
   EXPECT_NE(table.find("controls `none` 50.0% (1/2) [95% CI 9.5-90.5%]."), std::string::npos) << table;
 }

@@ -105,6 +105,8 @@ TEST(DiagnosisRecovery, NoiseFreeRecordings) {
   const Recovery offset = run("sensor_offset", 4.0, 0.0, 0.0, 2);
   EXPECT_EQ(offset.result.explanation, "sensor_offset") << "the exact term alone, no second term";
   EXPECT_NEAR(fittedValue(offset.result.final_model, "side_force_offset_n"), 4.0, 1e-4);
+  EXPECT_TRUE(offset.result.not_located.empty()) << "without the offset, both outputs are off";
+  EXPECT_EQ(offset.result.not_located_after.size(), 2u) << "the offset model reproduces both outputs";
 }
 
 // A term named twice among the candidates is fitted once and counts once in the Bonferroni threshold.

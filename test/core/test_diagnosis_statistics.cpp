@@ -91,6 +91,37 @@ TEST(DiagnosisStatistics, IncompleteBetaAndFTail) {
   EXPECT_NEAR(nestedFTestPValue(10.0 + 4.9646, 10.0, 1, 10), 0.05, 1e-4);
 }
 
+// A one-parameter linear model y = b x + e with b >= 0, fitted to pure noise (b = 0 on the bound): the boundary
+// test must reject at its nominal rate, the plain test at half of it (its conservatism on a bound).
+TEST(DiagnosisStatistics, BoundaryFTestHasItsNominalSizeUnderTheNull) {
+  constexpr int kRuns = 20, kReplicates = 40000;
+  constexpr double kAlpha = 0.05;
+  std::mt19937_64 rng(2024);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  std::vector<double> x(kRuns);
+  for (int i = 0; i < kRuns; ++i) x[i] = 0.5 + 0.1 * i;
+  double xx = 0.0;
+  for (double v : x) xx += v * v;
+  int rejected_on_bound = 0, rejected_plain = 0;
+  for (int r = 0; r < kReplicates; ++r) {
+    double yy = 0.0, xy = 0.0;
+    for (int i = 0; i < kRuns; ++i) {
+      const double y = noise(rng);
+      yy += y * y;
+      xy += x[i] * y;
+    }
+    // Constrained least squares: b = max(0, xy / xx); the RSS drops only when b is off the bound.
+    const double rss_large = xy > 0.0 ? yy - xy * xy / xx : yy;
+    rejected_on_bound += nestedFTestPValueOnBound(yy, rss_large, kRuns - 1) < kAlpha;
+    rejected_plain += nestedFTestPValue(yy, rss_large, 1, kRuns - 1) < kAlpha;
+  }
+  const double se = std::sqrt(kAlpha * (1.0 - kAlpha) / kReplicates);  // binomial, ~0.0011
+  EXPECT_NEAR(static_cast<double>(rejected_on_bound) / kReplicates, kAlpha, 4.0 * se);
+  EXPECT_NEAR(static_cast<double>(rejected_plain) / kReplicates, 0.5 * kAlpha, 4.0 * se);
+  EXPECT_DOUBLE_EQ(nestedFTestPValueOnBound(10.0, 10.0, 20), 1.0);
+  EXPECT_NEAR(nestedFTestPValueOnBound(10.0 + 4.9646, 10.0, 10), 0.025, 1e-4);  // half of F(0.95; 1, 10)
+}
+
 TEST(DiagnosisStatistics, InformationCriteria) {
   // n ln(rss/n) + 2k + 2k(k+1)/(n-k-1) with rss = n: 2k + correction.
   EXPECT_NEAR(aicc(20.0, 20, 2), 4.0 + 12.0 / 17.0, 1e-12);
@@ -127,6 +158,32 @@ TEST(DiagnosisStatistics, WilcoxonSignedRankWithTiesMatchesEnumeration) {
     if (w <= observed + 1e-9) ++at_most;
   }
   EXPECT_NEAR(wilcoxonSignedRankPValue(d), static_cast<double>(at_most) / (1 << n), 1e-12);
+}
+
+TEST(DiagnosisStatistics, WilcoxonNormalApproximationAgreesWithTheExactTest) {
+  // n = 9 example above: W+ = 5, mean 22.5, variance 9 x 10 x 19 / 24 = 71.25, z = (5 - 22.5 + 0.5) / 8.441 =
+  // -2.014, Phi(-2.014) = 0.0220 (normal table).
+  const std::vector<double> d9 = {-0.952, 0.147, -1.022, -0.43, -0.62, -0.59, -0.49, 0.08, -0.01};
+  EXPECT_NEAR(wilcoxonSignedRankPValueNormal(d9), 0.0220, 1e-4);
+  // At the switch-over size the approximation matches the exact distribution, with and without ties.
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  for (double shift : {-0.15, -0.05, 0.0}) {
+    std::vector<double> d, tied;
+    for (int i = 0; i < kWilcoxonExactMaxDifferences; ++i) {
+      d.push_back(noise(rng) + shift);
+      tied.push_back(std::round(4.0 * d.back()) / 4.0);  // many ties, some zeros
+    }
+    EXPECT_NEAR(wilcoxonSignedRankPValueNormal(d), wilcoxonSignedRankPValue(d), 2e-3) << shift;
+    EXPECT_NEAR(wilcoxonSignedRankPValueNormal(tied), wilcoxonSignedRankPValue(tied), 2e-3) << shift;
+  }
+  // Beyond it (a bag cut into thousands of segments) the test takes the approximation instead of O(n^3) work.
+  std::vector<double> large;
+  for (int i = 0; i < 20000; ++i) large.push_back(noise(rng) - 0.02);
+  const double p = wilcoxonSignedRankPValue(large);
+  EXPECT_DOUBLE_EQ(p, wilcoxonSignedRankPValueNormal(large));
+  EXPECT_GT(p, 0.0);
+  EXPECT_LT(p, 0.5);
 }
 
 // Newcombe (1998), Statistics in Medicine 17:857, Table I, method 3 (score interval without continuity correction).

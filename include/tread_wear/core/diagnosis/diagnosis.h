@@ -107,6 +107,7 @@ struct DiagnosisResult {
   std::vector<LocatedEffect> located_before;      ///< tests on the base residuals (sorted by p)
   std::vector<std::string> not_located;           ///< "output: why" for outputs without locating tests
   std::vector<LocatedEffect> located_after;       ///< the same tests on the final model's residuals
+  std::vector<std::string> not_located_after;     ///< not_located for the final model
   bool mismatch_found = false;
   std::string explanation;                        ///< library name, "a+b", "none" or "unexplained"
   std::vector<std::string> unexplained_covariates;

@@ -72,6 +72,9 @@ struct TermInfo {
 /// All terms, in enum order.
 const std::vector<TermInfo>& termLibrary();
 const TermInfo& termInfo(Term term);
+/// Whether the term has a single parameter whose no-effect value is one of its bounds (the effect can only go
+/// one way: surface_polishing, lateral_compliance, load_fluctuation).
+bool neutralOnBound(const TermInfo& info);
 /// Library name to term; false for an unknown name.
 bool parseTerm(const std::string& name, Term* term);
 /// Whether the data can show the term (temperatures recorded, sequence known, load std recorded, turn slip

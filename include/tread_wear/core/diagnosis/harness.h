@@ -8,6 +8,9 @@
 ///              |estimate - truth| <= 0.25 |truth - neutral| (neutral = the value without effect, e.g. gain 1,
 ///              q of the file); thermal_wear's sigma_T (no neutral value) relative to itself. Only scored when
 ///              the term was selected; turn_slip_orientation has none.
+///   parameter, relative  the plain reading of "within 25%": |estimate - truth| <= 0.25 |truth| (looser than the
+///              above where the neutral value is not 0: gain, q)
+///   all three  right, parameter (effect reading) and improved in the same case
 ///   covered    the true primary parameter lies within 2 reported standard errors of the estimate (are the
 ///              uncertainties the tool reports honest? about 95% if they are); scored when the term was selected
 ///   improved   the held-out RMSER of every output the term affects is lower after than before
@@ -33,7 +36,8 @@ struct HarnessOutcome {
   HarnessCase c;
   std::string explanation;
   bool right = false;
-  bool parameter_scored = false, parameter_ok = false;
+  bool parameter_scored = false, parameter_ok = false, parameter_ok_relative = false;
+  bool all_met = false;  ///< right, parameter_ok (when scored) and improved (when scored) together
   bool parameter_estimated = false, parameter_covered = false;  ///< the term was selected; truth within 2 SE
   bool improved_scored = false, improved = false;
   double estimate = std::numeric_limits<double>::quiet_NaN(), truth = std::numeric_limits<double>::quiet_NaN();

@@ -56,12 +56,25 @@ double fDistributionUpperTail(double f, double d1, double d2);
 /// p-value of the partial F test of a larger nested model: RSS drops from rss_small to rss_large with
 /// extra_parameters more, residual degrees of freedom dof_large = n - k_large. 1 when nothing improved.
 double nestedFTestPValue(double rss_small, double rss_large, int extra_parameters, int dof_large);
+/// The same test for one extra parameter whose no-effect value lies on a bound of its admissible range (a rate, a
+/// compliance or a scale that cannot be negative). Under the null the constrained estimate sits on the bound half
+/// the time, leaving the RSS unchanged, and the statistic follows F(1, dof) otherwise: the null distribution is the
+/// mixture 0.5 delta_0 + 0.5 F(1, dof) (chi-bar-squared; Self and Liang 1987, case 5; Chernoff 1954), so the
+/// p-value is half the plain one. The plain test is conservative there by a factor of 2. 1 when nothing improved.
+double nestedFTestPValueOnBound(double rss_small, double rss_large, int dof_large);
 
 /// One-sided Wilcoxon signed-rank test that paired differences d_i are centred below zero: the exact null
 /// distribution of the positive-rank sum W+ (each rank positive with probability 1/2; average ranks for ties in
 /// |d|, zero differences dropped), p = P(W+ <= observed). 1 when every difference is zero. Exact also with ties
-/// (doubled average ranks are integers); time O(n^3), fine for the few hundred runs of a rig program.
+/// (doubled average ranks are integers); time O(n^3), fine for the few hundred runs of a rig program. Above
+/// kWilcoxonExactMaxDifferences non-zero differences (a bag cut into thousands of segments) it returns the normal
+/// approximation below instead, whose error there is far below any significance level (and which does not
+/// underflow in the far tail as the exact sum does).
 double wilcoxonSignedRankPValue(const std::vector<double>& differences);
+constexpr int kWilcoxonExactMaxDifferences = 400;
+/// The same one-sided p from the normal approximation of W+ (mean n(n+1)/4, variance n(n+1)(2n+1)/24 less
+/// sum(t^3 - t)/48 over groups of t tied |d|, continuity correction 1/2); O(n log n).
+double wilcoxonSignedRankPValueNormal(const std::vector<double>& differences);
 
 /// Wilson score interval of a binomial proportion (no continuity correction; Newcombe 1998, method 3): the
 /// uncertainty of a success rate measured on `trials` cases. z = 1.96 gives the 95% interval.
