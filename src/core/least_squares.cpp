@@ -138,7 +138,8 @@ TerminationType mapTermination(ceres::TerminationType t) {
 
 /// Standard errors, correlations and the condition number from the Jacobian at the solution.
 void fillStatistics(const LeastSquaresProblem& problem, const FittingCost& cost, const Coordinates& coords,
-                    const std::vector<double>& u, const std::vector<double>& r, LeastSquaresSummary* s) {
+                    const std::vector<double>& u, const std::vector<double>& r, bool robust,
+                    LeastSquaresSummary* s) {
   const int n = static_cast<int>(problem.parameters.size());
   const int m = cost.num_residuals();
   s->correlation = Eigen::MatrixXd::Constant(n, n, kNaN);
@@ -179,6 +180,23 @@ void fillStatistics(const LeastSquaresProblem& problem, const FittingCost& cost,
   }
   const Eigen::MatrixXd& v = svd.matrixV();
   Eigen::MatrixXd cov_scaled = v * winv2.asDiagonal() * v.transpose();
+  // Scale of cov_scaled: s^2 for the classic estimate; 1 for the sandwich, whose meat carries the residuals.
+  double variance_factor = s->residual_variance;
+  if (robust && !singular) {
+    Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(p, p);
+    for (int i = 0; i < m; ++i) {
+      const Eigen::VectorXd row = scaled.row(i).transpose();
+      double omega = 1.0;  // prior rows: unit variance by construction
+      if (i < cost.numData()) {
+        const double leverage = row.dot(cov_scaled * row);
+        const double one_minus_h = std::max(1.0 - leverage, 1e-6);
+        omega = r[i] * r[i] / (one_minus_h * one_minus_h);
+      }
+      meat.noalias() += omega * row * row.transpose();
+    }
+    cov_scaled = cov_scaled * meat * cov_scaled;
+    variance_factor = std::isfinite(s->residual_variance) ? 1.0 : kNaN;
+  }
   for (int a = 0; a < p; ++a)
     for (int b = 0; b < p; ++b) {
       const double denom = std::sqrt(cov_scaled(a, a) * cov_scaled(b, b));
@@ -188,8 +206,8 @@ void fillStatistics(const LeastSquaresProblem& problem, const FittingCost& cost,
     const int j = free_index[a];
     const double var_u = cov_scaled(a, a) / (norms(a) * norms(a));
     s->parameters[j].std_error = singular        ? kInf
-                                 : !std::isfinite(s->residual_variance) ? kNaN
-                                 : coords.derivative(j, u[j]) * std::sqrt(s->residual_variance * var_u);
+                                 : !std::isfinite(variance_factor) ? kNaN
+                                 : coords.derivative(j, u[j]) * std::sqrt(variance_factor * var_u);
   }
 }
 
@@ -359,7 +377,7 @@ LeastSquaresSummary solveLeastSquares(const LeastSquaresProblem& problem, const 
     return s;
   }
   s.residuals.assign(r.begin(), r.begin() + cost->numData());
-  fillStatistics(problem, *cost, coords, u, r, &s);
+  fillStatistics(problem, *cost, coords, u, r, options.robust_covariance, &s);
   return s;
 }
 

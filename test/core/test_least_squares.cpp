@@ -101,6 +101,42 @@ TEST(LeastSquares, LinearProblemStandardErrorsCorrelationAndConditionNumber) {
   EXPECT_NEAR(s.condition_number, std::sqrt(3.0), kTol);
 }
 
+// Straight line y = 1 + 2 x on x in [0, 1] with noise whose standard deviation grows 26-fold towards the ends
+// (where the slope is decided): over many noise draws, the truth must lie within the t-quantile of the reported
+// standard error at the nominal 95% with the sandwich (HC3), while the classic s^2 (J^T J)^-1 understates it.
+TEST(LeastSquares, RobustStandardErrorsCoverUnderHeteroscedasticNoise) {
+  constexpr int kPoints = 30, kDraws = 1500;
+  constexpr double kT975 = 2.048;  // t distribution, 28 degrees of freedom
+  std::vector<double> x(kPoints), sd(kPoints), y(kPoints);
+  for (int i = 0; i < kPoints; ++i) {
+    x[i] = static_cast<double>(i) / (kPoints - 1);
+    sd[i] = 0.1 + 10.0 * (x[i] - 0.5) * (x[i] - 0.5);  // 0.1 in the middle, 2.6 at the ends
+  }
+  LeastSquaresProblem p;
+  p.parameters = {{"intercept", 0.0}, {"slope", 0.0}};
+  p.num_records = kPoints;
+  p.residuals = [&](const std::vector<double>& v, const std::vector<int>& recs, double* r) {
+    for (size_t i = 0; i < recs.size(); ++i) r[i] = v[0] + v[1] * x[recs[i]] - y[recs[i]];
+    return true;
+  };
+  LeastSquaresOptions classic, robust;
+  robust.robust_covariance = true;
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  int covered_classic = 0, covered_robust = 0;
+  for (int d = 0; d < kDraws; ++d) {
+    for (int i = 0; i < kPoints; ++i) y[i] = 1.0 + 2.0 * x[i] + sd[i] * noise(rng);
+    const LeastSquaresSummary a = solveLeastSquares(p, classic), b = solveLeastSquares(p, robust);
+    ASSERT_TRUE(a.usable && b.usable);
+    EXPECT_DOUBLE_EQ(a.parameters[1].value, b.parameters[1].value) << "the estimate does not depend on the covariance";
+    covered_classic += std::abs(a.parameters[1].value - 2.0) <= kT975 * a.parameters[1].std_error;
+    covered_robust += std::abs(b.parameters[1].value - 2.0) <= kT975 * b.parameters[1].std_error;
+  }
+  const double se = std::sqrt(0.95 * 0.05 / kDraws);  // binomial, ~0.0056
+  EXPECT_NEAR(static_cast<double>(covered_robust) / kDraws, 0.95, 3.0 * se) << covered_classic;
+  EXPECT_LT(static_cast<double>(covered_classic) / kDraws, 0.95 - 3.0 * se) << covered_robust;
+}
+
 TEST(LeastSquares, BoundsAreRespectedAndReported) {
   // Unconstrained optimum A = 3; the upper bound 2 must hold and be flagged.
   LeastSquaresProblem p = decayProblem(makeDecay(3.0, 1.3, 0.0, 1));

@@ -23,6 +23,12 @@
 /// Statistics at the solution (as in nonlinear regression, e.g. Bates & Watts):
 ///   J = d(residuals, prior rows)/du over the parameters NOT at a bound; s^2 = sum(data r^2) / (N_data - p_free);
 ///   Cov(u) = s^2 (J^T J)^-1; std_error(theta) = |dtheta/du| sqrt(Cov_jj); correlation = Cov_jk / sqrt(Cov_jj Cov_kk).
+///   With robust_covariance the covariance is the heteroscedasticity-consistent sandwich HC3 instead (MacKinnon
+///   and White 1985; Long and Ervin 2000 recommend it for small samples): Cov(u) = B M B with B = (J^T J)^-1 and
+///   M = sum over data rows of j_i j_i^T r_i^2 / (1 - h_i)^2, h_i = j_i^T B j_i the leverage (prior rows add
+///   j_k j_k^T, their variance being known). It stays honest when the residual variance differs between records,
+///   e.g. error ratios of a transducer with additive noise, where s^2 (J^T J)^-1 understates the uncertainty of a
+///   parameter that the noisier records determine.
 ///   condition_number = sigma_max / sigma_min of J with unit-norm columns (1 = orthogonal directions; large =
 ///   poorly identified combinations). Parameters at a bound are reported with at_bound set and a NaN
 ///   standard error: the quadratic approximation does not hold there. With N_data <= p_free the standard
@@ -74,6 +80,7 @@ struct LeastSquaresOptions {
   double jacobian_step = 1e-6;         ///< finite-difference step in internal coordinates u, > 0
   bool central_differences = true;     ///< central (2p evaluations) or forward (p) differences
   double bound_tolerance = 1e-6;       ///< |u - u_bound| <= tol (1 + |u_bound|) counts as at the bound
+  bool robust_covariance = false;      ///< HC3 sandwich standard errors and correlations (see above)
 
   bool validate(std::string* error) const;
 };
