@@ -36,6 +36,23 @@ double betweenGroupSS(const std::vector<int>& labels, const std::vector<double>&
   return ss;
 }
 
+
+/// The non-zero differences of a signed-rank test: |d|, their average ranks and whether d > 0.
+struct SignedRanks {
+  std::vector<double> magnitude, ranks;
+  std::vector<bool> positive;
+};
+SignedRanks signedRanks(const std::vector<double>& d) {
+  SignedRanks sr;
+  for (double v : d)
+    if (v != 0.0) {
+      sr.magnitude.push_back(std::abs(v));
+      sr.positive.push_back(v > 0.0);
+    }
+  sr.ranks = averageRanks(sr.magnitude);
+  return sr;
+}
+
 }  // namespace
 
 std::vector<double> averageRanks(const std::vector<double>& x) {
@@ -204,22 +221,16 @@ double nestedFTestPValueOnBound(double rss_small, double rss_large, int dof_larg
 }
 
 double wilcoxonSignedRankPValue(const std::vector<double>& d) {
-  std::vector<double> magnitude, sign;
-  for (double v : d)
-    if (v != 0.0) {
-      magnitude.push_back(std::abs(v));
-      sign.push_back(v > 0.0 ? 1.0 : -1.0);
-    }
-  if (magnitude.empty()) return 1.0;
-  if (static_cast<int>(magnitude.size()) > kWilcoxonExactMaxDifferences) return wilcoxonSignedRankPValueNormal(d);
+  const SignedRanks sr = signedRanks(d);
+  if (sr.ranks.empty()) return 1.0;
+  if (static_cast<int>(sr.ranks.size()) > kWilcoxonExactMaxDifferences) return wilcoxonSignedRankPValueNormal(d);
   // Doubled average ranks are integers, so the null distribution of 2 W+ is a count over integer sums.
-  const std::vector<double> ranks = averageRanks(magnitude);
-  std::vector<int> doubled(ranks.size());
+  std::vector<int> doubled(sr.ranks.size());
   int observed = 0, total = 0;
-  for (std::size_t i = 0; i < ranks.size(); ++i) {
-    doubled[i] = static_cast<int>(std::lround(2.0 * ranks[i]));
+  for (std::size_t i = 0; i < sr.ranks.size(); ++i) {
+    doubled[i] = static_cast<int>(std::lround(2.0 * sr.ranks[i]));
     total += doubled[i];
-    if (sign[i] > 0.0) observed += doubled[i];
+    if (sr.positive[i]) observed += doubled[i];
   }
   // Under H0 each rank is positive with probability 1/2 independently: distribution of the sum by convolution.
   std::vector<double> probability(total + 1, 0.0);
@@ -235,21 +246,14 @@ double wilcoxonSignedRankPValue(const std::vector<double>& d) {
 }
 
 double wilcoxonSignedRankPValueNormal(const std::vector<double>& d) {
-  std::vector<double> magnitude;
-  std::vector<bool> positive;
-  for (double v : d)
-    if (v != 0.0) {
-      magnitude.push_back(std::abs(v));
-      positive.push_back(v > 0.0);
-    }
-  if (magnitude.empty()) return 1.0;
-  const std::vector<double> ranks = averageRanks(magnitude);
-  const double n = static_cast<double>(ranks.size());
+  const SignedRanks sr = signedRanks(d);
+  if (sr.ranks.empty()) return 1.0;
+  const double n = static_cast<double>(sr.ranks.size());
   double w_plus = 0.0;
-  for (std::size_t i = 0; i < ranks.size(); ++i)
-    if (positive[i]) w_plus += ranks[i];
+  for (std::size_t i = 0; i < sr.ranks.size(); ++i)
+    if (sr.positive[i]) w_plus += sr.ranks[i];
   // Tie correction: each group of t equal |d| lowers the variance by (t^3 - t) / 48.
-  std::vector<double> sorted = magnitude;
+  std::vector<double> sorted = sr.magnitude;
   std::sort(sorted.begin(), sorted.end());
   double ties = 0.0;
   for (std::size_t i = 0; i < sorted.size();) {
