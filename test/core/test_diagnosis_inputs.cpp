@@ -1,8 +1,6 @@
 // Malformed inputs of the diagnosis tools get clear errors and the documented exit codes.
 #include <gtest/gtest.h>
 
-#include <filesystem>
-#include <fstream>
 #include <sstream>
 
 #include "tread_wear/core/diagnosis/cli.h"
@@ -10,6 +8,7 @@
 #include "tread_wear/core/diagnosis/extensions.h"
 #include "tread_wear/core/diagnosis/harness.h"
 #include "rig_run.h"
+#include "temp_file.h"
 
 using namespace tread_wear;
 using namespace tread_wear::diagnosis;
@@ -39,12 +38,6 @@ CliResult concealCli(std::vector<std::string> args) {
   std::ostringstream out, err;
   const int code = runConcealCli(static_cast<int>(argv.size()), argv.data(), out, err);
   return {code, out.str(), err.str()};
-}
-
-std::string tempFile(const std::string& name, const std::string& text) {
-  const std::filesystem::path p = std::filesystem::temp_directory_path() / ("tw_diag_" + name);
-  std::ofstream(p) << text;
-  return p.string();
 }
 
 }  // namespace
@@ -103,20 +96,20 @@ TEST(DiagnosisInputs, CliDataErrors) {
   const CliResult missing = diagnoseCli({"--params", kParams, "--runs", "/nonexistent/runs.csv", "--report", "r"});
   EXPECT_EQ(missing.code, 1);
   EXPECT_NE(missing.err.find("/nonexistent/runs.csv"), std::string::npos) << missing.err;
-  const std::string bad = tempFile("bad.csv", "# tread_wear run table v1\nspeed_mps,slip_angle_rad,load_n\n2,abc,75\n");
-  const CliResult nonnum = diagnoseCli({"--params", kParams, "--runs", bad, "--report", "r"});
+  const TempFile bad("# tread_wear run table v1\nspeed_mps,slip_angle_rad,load_n\n2,abc,75\n", ".csv");
+  const CliResult nonnum = diagnoseCli({"--params", kParams, "--runs", bad.path(), "--report", "r"});
   EXPECT_EQ(nonnum.code, 1);
   EXPECT_NE(nonnum.err.find("slip_angle_rad"), std::string::npos) << nonnum.err;
-  const std::string few = tempFile("few.csv",
-                                   "# tread_wear run table v1\nspeed_mps,slip_angle_rad,load_n,side_force_n\n"
-                                   "2,-0.17,75,50\n2,-0.17,75,51\n");
-  const CliResult too_few = diagnoseCli({"--params", kParams, "--runs", few, "--report", "r"});
+  const TempFile few("# tread_wear run table v1\nspeed_mps,slip_angle_rad,load_n,side_force_n\n"
+                     "2,-0.17,75,50\n2,-0.17,75,51\n",
+                     ".csv");
+  const CliResult too_few = diagnoseCli({"--params", kParams, "--runs", few.path(), "--report", "r"});
   EXPECT_EQ(too_few.code, 1);
   EXPECT_NE(too_few.err.find("at least 4"), std::string::npos) << too_few.err;
-  const std::string sae = tempFile("sae.csv",
-                                   "# tread_wear run table v1\nspeed_mps,slip_angle_rad,load_n,side_force_n\n"
-                                   "2,-0.17,75,-50\n2,-0.17,75,-51\n2,-0.17,75,-49\n2,-0.17,75,-52\n");
-  const CliResult sae_axes = diagnoseCli({"--params", kParams, "--runs", sae, "--report", "r"});
+  const TempFile sae("# tread_wear run table v1\nspeed_mps,slip_angle_rad,load_n,side_force_n\n"
+                     "2,-0.17,75,-50\n2,-0.17,75,-51\n2,-0.17,75,-49\n2,-0.17,75,-52\n",
+                     ".csv");
+  const CliResult sae_axes = diagnoseCli({"--params", kParams, "--runs", sae.path(), "--report", "r"});
   EXPECT_EQ(sae_axes.code, 1);
   EXPECT_NE(sae_axes.err.find("axis convention"), std::string::npos) << sae_axes.err;
   const CliResult bad_bag = diagnoseCli({"--params", kParams, "--bag", "x.bag", "--report", "r"},
