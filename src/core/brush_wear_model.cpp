@@ -9,6 +9,7 @@
 #include "tread_wear/core/quadrature.h"
 #include "tread_wear/core/units.h"
 #include "tread_wear/core/validation.h"
+#include "brush_march.h"
 
 namespace tread_wear {
 
@@ -85,10 +86,7 @@ void shoulderPanels(int n, double n_y, std::vector<double>* nodes, std::vector<d
   }
 }
 
-/// Coefficients of the variable-step BDF2 step y_{i+1} = a1 y_i + a2 y_{i-1} + beta h_i y'_{i+1}.
-struct Bdf2 {
-  double a1, a2, beta;
-};
+using march::Bdf2;
 
 /// BDF2 coefficients for the step ratio w = h_i / h_{i-1}; w = 0 gives BDF1 (a restart).
 Bdf2 bdf2Coefficients(double w) {
@@ -99,7 +97,7 @@ Bdf2 bdf2Coefficients(double w) {
 }  // namespace
 
 BrushWearModel::BrushWearModel(const TireParams& params, const BrushOptions& options)
-    : params_(params), options_(options), friction_(params.friction) {
+    : params_(params), options_(options), friction_(params.friction), advance_(march::fastestAdvance()) {
   std::string error;
   if (!params.validate(&error)) throw std::invalid_argument("invalid tire parameters: " + error);
   if (!options.validate(&error)) throw std::invalid_argument("invalid brush options: " + error);
@@ -156,146 +154,12 @@ BrushWearModel::BrushWearModel(const TireParams& params, const BrushOptions& opt
     y_symmetric_ = eta_[j] == -eta_[ny - 1 - j] && wy_[j] == wy_[ny - 1 - j] && gy_[j] == gy_[ny - 1 - j];
 }
 
+
 namespace {
 
-/// Constants of the Savkoor law in l = ln(|v_s|/v_m): savkoor = mu_0 + dmu exp(-c l^2).
-struct SavkoorLog {
-  double mu_0, dmu, c, ln_vm;
-};
-
-/// Root of the slide branch of the return mapping. With D = diag(D_x, D_y) and trial stress t, the
-/// sliding speed s = |v_s| solves F(s) = sum_i t_i^2 / (D_i s + mu(s) p)^2 - 1 = 0, monotone
-/// decreasing while D_i + p dmu/ds > 0 (true for the element inertia m/dt at usable steps).
-/// Newton in z = ln s, safeguarded by bisection on the bracket [s_floor, |t|/min D].
-struct SlideRoot {
-  double s = 0.0;    ///< |v_s| [m/s]; 0 = creep at the static limit
-  double z = 0.0;    ///< ln|v_s|
-  double mup = 0.0;  ///< mu(|v_s|, p) p [Pa]
-  double s_dmup = 0.0;  ///< |v_s| d(mu p)/d|v_s| [Pa] (slope of the friction law, for step control)
-  int iterations = 0;
-};
-
-struct SlideProblem {
-  double sat_p;      ///< sat(p) p [Pa]
-  double t2x, t2y;   ///< squared trial stress components [Pa^2]
-  double dx, dy;     ///< D_x, D_y [Pa s/m]
-};
-
-/// F(z) and what the iteration needs at z.
-struct SlideResidual {
-  double f;       ///< F [-]
-  double dfdz;    ///< dF/dz [-]
-  double s;       ///< |v_s| = exp(z) [m/s]
-  double mup;     ///< mu(|v_s|, p) p [Pa]
-  double s_dmup;  ///< |v_s| d(mu p)/d|v_s| [Pa]
-};
-
-/// mu p and |v_s| d(mu p)/d|v_s| at z = ln|v_s| (Eq 10 times sat(p) p).
-inline void frictionAt(const SavkoorLog& sk, double sat_p, double z, double* mup, double* s_dmup) {
-  const double l = z - sk.ln_vm;
-  const double e = sk.dmu * std::exp(-sk.c * l * l);
-  *mup = sat_p * (sk.mu_0 + e);
-  *s_dmup = sat_p * e * (-2.0 * sk.c * l);
-}
-
-inline SlideResidual slideResidual(const SavkoorLog& sk, const SlideProblem& pr, double z) {
-  SlideResidual r;
-  r.s = std::exp(z);
-  frictionAt(sk, pr.sat_p, z, &r.mup, &r.s_dmup);
-  const double gx = pr.dx * r.s + r.mup, gy = pr.dy * r.s + r.mup;
-  const double inv = 1.0 / (gx * gy);  // one division for both reciprocals
-  const double igx = gy * inv, igy = gx * inv;
-  const double rx = pr.t2x * igx * igx, ry = pr.t2y * igy * igy;
-  r.dfdz = -2.0 * (rx * (pr.dx * r.s + r.s_dmup) * igx + ry * (pr.dy * r.s + r.s_dmup) * igy);
-  r.f = rx + ry - 1.0;
-  return r;
-}
-
-/// The slide root as a resumable iteration: start(), then residual at z() and update() until update()
-/// returns true. Split this way so that the roots of all strips of an x step are iterated side by side:
-/// one root is a chain of exp, division and exp that the processor cannot shorten, but the chains of
-/// different strips are independent and overlap (docs/performance.md).
-class SlideIteration {
- public:
-  /// Creep test and starting point. True when done without iterating (creep at the static limit).
-  bool start(const SavkoorLog& sk, const SlideProblem& pr, double z_floor, double f_floor_mu, double z_guess,
-             bool have_guess) {
-    root_ = SlideRoot{};
-    {  // Creep test at the floor speed: there D s is negligible against mu p and mu = mu(floor) (constant).
-      const double mup = pr.sat_p * f_floor_mu;
-      if ((pr.t2x + pr.t2y) <= mup * mup) return true;
-    }
-    // Bracket [z_lo, z_hi]; the a-priori upper end ln(|t| / min D) is only computed if bisection needs it.
-    z_lo_ = z_floor;
-    z_hi_ = std::numeric_limits<double>::infinity();
-    z_ = z_guess;
-    if (!have_guess || z_guess < sk.ln_vm) {
-      const double r = std::sqrt(pr.t2x + pr.t2y);
-      // Closed-form creep root mu(s) p = r with D s neglected, on the rising branch (s < v_m): there it
-      // is a better start than the warm start; beyond the peak of mu the warm start is.
-      const double e = (r / pr.sat_p - sk.mu_0) / sk.dmu;
-      if (e > 0.0 && e < 1.0) {
-        z_ = sk.ln_vm - std::sqrt(-std::log(e) / sk.c);
-      } else if (!have_guess) {  // viscous estimate: D s carries what friction at its floor mu_0 p does not
-        const double s_visc = std::sqrt(pr.t2x / (pr.dx * pr.dx) + pr.t2y / (pr.dy * pr.dy));
-        z_ = std::log(std::max(s_visc * (1.0 - pr.sat_p * sk.mu_0 / r), 1e-300));
-      }
-    }
-    if (!(z_ > z_lo_ && z_ < z_hi_)) z_ = 0.5 * (z_lo_ + upperEnd(pr));
-    return false;
-  }
-
-  double z() const { return z_; }
-
-  /// One safeguarded Newton step from the residual at z(). True when the root is found.
-  bool update(const SavkoorLog& sk, const SlideProblem& pr, const SlideResidual& r, double tol, int max_iterations) {
-    root_.iterations += 1;
-    if (r.f > 0.0) z_lo_ = z_; else z_hi_ = z_;
-    // Far from the root F + 1 behaves like a power of s (like s^-2 where D s dominates), so Newton
-    // on ln(F + 1) is nearly linear in z there; near the root both forms agree to O(F^2).
-    const bool descending = r.dfdz < 0.0;
-    const double step = !descending ? 0.0 : (std::fabs(r.f) < 0.25 ? -r.f : -(1.0 + r.f) * std::log1p(r.f)) / r.dfdz;
-    if (descending && std::fabs(step) < tol) {
-      // Quadratic convergence: the remaining error is O(step^2); correct s and mu p to first order.
-      root_.z = z_ + step;
-      root_.s = r.s * (1.0 + step);
-      root_.mup = r.mup + r.s_dmup * step;
-      root_.s_dmup = r.s_dmup;
-      return true;
-    }
-    double z_new = z_ + step;
-    if (!descending || !(z_new > z_lo_ && z_new < z_hi_)) z_new = 0.5 * (z_lo_ + upperEnd(pr));
-    if (z_hi_ - z_lo_ < tol || root_.iterations == max_iterations) {
-      root_.z = z_new;
-      root_.s = std::exp(z_new);
-      frictionAt(sk, pr.sat_p, z_new, &root_.mup, &root_.s_dmup);
-      return true;
-    }
-    z_ = z_new;
-    return false;
-  }
-
-  const SlideRoot& root() const { return root_; }
-
- private:
-  double upperEnd(const SlideProblem& pr) {
-    if (std::isinf(z_hi_)) z_hi_ = std::log(std::sqrt(pr.t2x + pr.t2y) / std::min(pr.dx, pr.dy));
-    return z_hi_;
-  }
-
-  double z_ = 0.0, z_lo_ = 0.0, z_hi_ = 0.0;
-  SlideRoot root_;
-};
-
-/// State of the element travelling along one strip, and its values at the last node (for the
-/// trapezoid correction of a refined step).
-struct ElementState {
-  double dlx, dly, ux, uy;          ///< deflection [m] and its rate [m/s] at the current node
-  double dlx_p, dly_p, ux_p, uy_p;  ///< the same at the previous node (BDF2)
-  double z;                         ///< ln|v_s| at the current node if it slid (warm start)
-  double z_p;                       ///< ln|v_s| at the previous node if it slid
-  bool sliding;                     ///< the current node slid with |v_s| > 0
-  bool sliding_p;                   ///< the previous node slid with |v_s| > 0
+/// The element's bookkeeping along one strip besides its path state (march::PathState): what the
+/// trapezoid correction of a step redone in substeps needs.
+struct StripRecord {
   bool refined;                     ///< the last coarse step was taken in substeps
   double ds;                        ///< length of the last step taken [-] (x/a units)
   double tx, ty, wt, stick, exact;  ///< tau [Pa], wear per time and area [kg/(s m^2)], stick flags at the node
@@ -312,17 +176,13 @@ struct NodeSolution {
   bool stuck;            ///< exact stick (v_s = 0)
 };
 
-/// Per-step terms of the implicit update m u' + c u + k delta = tau over the BDF2 step g = beta h.
-struct StepTerms {
-  double g;               ///< beta h [s]
-  double m_over_g;        ///< m / g [Pa s/m]
-  double dx, dy;          ///< D = m/g + c + k g [Pa s/m]
-  double inv_dx, inv_dy;  ///< 1/D [m/(Pa s)]
-  double w;               ///< step ratio h_i / h_{i-1} for the along-path extrapolation of ln|v_s| [-]
-  Bdf2 c;                 ///< BDF2 coefficients of the step
-};
+NodeSolution nodeOf(const march::NodeLanes& n, int j) {
+  return {n.p[j], n.tx[j], n.ty[j], n.vsx[j], n.vsy[j], n.s[j], n.z[j], n.mup[j], n.s_dmup[j], n.wt[j],
+          n.stuck[j] != 0.0};
+}
 
 }  // namespace
+
 
 void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, PatchFields* fields) const {
   const FootprintParams& fp = params_.footprint;
@@ -360,46 +220,72 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
   const int n_active = mirror ? (ny + 1) / 2 : ny;
   const int passes = Omega == 0.0 ? 1 : options_.turn_slip_iterations;
 
-  const SavkoorLog sk{fr.mu_0, fr.mu_m - fr.mu_0, fr.h * fr.h / (std::log(10.0) * std::log(10.0)), std::log(v_m)};
-  const double z_floor = std::log(options_.creep_floor_mps);
-  const double savkoor_floor = friction_.savkoor(options_.creep_floor_mps);
-  const double tol = options_.root_tolerance;
-  const int max_it = options_.max_root_iterations;
   const int max_level = options_.refinement.max_level;
   const double edge_weight = 1.0 / (1.0 + w1) - 0.5;
   const int initial_budget = max_level > 0 ? options_.refinement.node_budget : 0;
   int refinement_budget = initial_budget;
+  march::Constants constants;
+  constants.vrx0 = vrx0;
+  constants.vry0 = vry0;
+  constants.omega = Omega;
+  constants.kx = kx;
+  constants.ky = ky;
+  constants.p_0 = fr.p_0_pa;
+  constants.sat_floor = sat_floor;
+  constants.mu_0 = fr.mu_0;
+  constants.dmu = fr.mu_m - fr.mu_0;
+  constants.savkoor_c = fr.h * fr.h / (std::log(10.0) * std::log(10.0));
+  constants.ln_vm = std::log(v_m);
+  constants.z_floor = std::log(options_.creep_floor_mps);
+  constants.savkoor_floor = friction_.savkoor(options_.creep_floor_mps);
+  constants.tol = options_.root_tolerance;
+  constants.max_iterations = options_.max_root_iterations;
+  constants.passes = passes;
+  constants.w1 = w1;
+  constants.w2 = w2;
+  constants.w4 = w4;
+  constants.ln_w3_over_mpa_w1 = ln_w3_over_mpa_w1;
+  constants.z_wear_cut = z_wear_cut;
 
-  std::array<ElementState, GridSpec::kMaxStrips> el;
+  // Per-strip state and per x step work, structure of arrays (march::advance* run packs of strips
+  // on them); the strips from n_active to the end of the last pack are zero and never read back.
+  const int n_padded = std::min(n_active + march::kMaxLanes, march::kCapacity);
+  march::PathState el;
+  march::StripConstants strip_constants;
+  std::array<StripRecord, GridSpec::kMaxStrips> rec;
   // Per x step: each strip's state at node i (for substeps), its wear there, its step terms and its node solution.
-  std::array<ElementState, GridSpec::kMaxStrips> before;
+  march::PathState before;
+  std::array<StripRecord, GridSpec::kMaxStrips> rec_before;
   std::array<double, GridSpec::kMaxStrips> wt_prev;
-  std::array<StepTerms, GridSpec::kMaxStrips> back;
-  std::array<const StepTerms*, GridSpec::kMaxStrips> step_terms;
-  std::array<NodeSolution, GridSpec::kMaxStrips> nodes;
-  std::array<int, GridSpec::kMaxStrips> all_strips;
+  march::StepTermLanes back;
+  march::NodeLanes nodes;
   double strip_weight[GridSpec::kMaxStrips];  // area weight factor of a marched strip (2 for mirrored pairs)
-  for (int j = 0; j < n_active; ++j) {
-    all_strips[j] = j;
-    strip_weight[j] = (mirror && 2 * j + 1 != ny) ? 2.0 : 1.0;
-    ElementState& e = el[j];
-    e = ElementState{};
-    if (options_.enter_at_road_velocity) {
-      e.ux = vrx0 + Omega * b * eta_[j];
-      e.uy = vry0 - Omega * a;
-    }
+  for (int j = 0; j < n_padded; ++j) {
+    const bool active = j < n_active;
+    strip_constants.y[j] = active ? b * eta_[j] : 0.0;
+    strip_constants.gy[j] = active ? gy_[j] : 0.0;
+    strip_constants.sat_y[j] = active ? sat_y_[j] : 0.0;
+    for (auto field : {&march::PathState::dlx, &march::PathState::dly, &march::PathState::dlx_p,
+                       &march::PathState::dly_p, &march::PathState::ux_p, &march::PathState::uy_p,
+                       &march::PathState::z, &march::PathState::z_p, &march::PathState::sliding,
+                       &march::PathState::sliding_p})
+      (el.*field)[j] = 0.0;
+    el.ux[j] = active && options_.enter_at_road_velocity ? vrx0 + Omega * b * eta_[j] : 0.0;
+    el.uy[j] = active && options_.enter_at_road_velocity ? vry0 - Omega * a : 0.0;
   }
+  for (int j = 0; j < n_active; ++j) {
+    strip_weight[j] = (mirror && 2 * j + 1 != ny) ? 2.0 : 1.0;
+    rec[j] = StripRecord{};
+  }
+  march::RootCounts root_counts;
 
   double fx = 0.0, fy = 0.0, mz = 0.0, wear_t = 0.0, stick_area = 0.0, exact_area = 0.0;
-  int max_iterations = 0;
-  long total_iterations = 0;
   if (fields) {
     for (int i = 0; i <= n; ++i) fields->x_m[i] = a * s_[i];
     for (int j = 0; j < ny; ++j) fields->y_m[j] = b * eta_[j];
   }
 
   auto store = [&](int i, int j, const NodeSolution& o) {
-    const ElementState& e = el[j];
     const unsigned char st = o.stuck ? 0 : (o.s <= v_m ? 1 : 2);
     for (int jj : {j, ny - 1 - j}) {
       const int k = fields->index(i, jj);
@@ -408,8 +294,8 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
       fields->tau_y_pa[k] = o.ty;
       fields->v_sx_mps[k] = o.vsx;
       fields->v_sy_mps[k] = o.vsy;
-      fields->delta_x_m[k] = e.dlx;
-      fields->delta_y_m[k] = e.dly;
+      fields->delta_x_m[k] = el.dlx[j];
+      fields->delta_y_m[k] = el.dly[j];
       fields->wear_kg_per_m3[k] = o.wt / V;
       fields->state[k] = st;
       if (!mirror) break;
@@ -418,7 +304,7 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
 
   // Implicit terms of a step of length ds [x/a] with BDF2 coefficients c.
   auto stepTerms = [&](double ds, const Bdf2& c, double w) {
-    StepTerms t;
+    march::StepTerms t;
     t.c = c;
     t.w = w;
     t.g = c.beta * a * ds / Vr;
@@ -435,140 +321,6 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
     const double px = std::max(0.0, p_scale * gx_even * (1.0 - Bx * s));
     *sat_x = px > 0.0 ? std::pow(px / fr.p_ref_pa, -fr.q) : 0.0;
     return px;
-  };
-
-  // Per-strip work of one implicit step, kept across the phases of advanceStrips.
-  struct StripWork {
-    double y;                 // strip centre [m]
-    double sat_p;             // sat(p) p [Pa]
-    double tau_static;        // static limit mu_0 sat(p) p [Pa]
-    double dhx, dhy;          // BDF2 history of delta [m]
-    double bx, by;            // history terms of the implicit update [Pa]
-    double ndx, ndy;          // deflection at the new node (predictor, then corrector) [m]
-    double ttx, tty;          // trial stress [Pa]
-    SlideProblem problem;
-    SlideIteration root;
-  };
-  std::array<StripWork, GridSpec::kMaxStrips> work;
-  std::array<int, GridSpec::kMaxStrips> solving;
-  std::array<SlideResidual, GridSpec::kMaxStrips> residuals;
-
-  // One implicit step of the elements of `count` strips (strip[k], with step terms *terms[k]) to the
-  // node at x [m] (return mapping, Eqs 17-18, and the wear law Eq 19); updates their states and writes
-  // their node solutions to out[k]. The strips go through each phase together, and their slide roots
-  // are iterated side by side (SlideIteration).
-  auto advanceStrips = [&](int count, const int* strip, const StepTerms* const* terms, double x, double px,
-                           double sat_x, NodeSolution* out) {
-    for (int k = 0; k < count; ++k) {
-      const int j = strip[k];
-      const ElementState& e = el[j];
-      const StepTerms& st = *terms[k];
-      StripWork& wk = work[k];
-      NodeSolution& o = out[k];
-      wk.y = b * eta_[j];
-      o.p = px * gy_[j];
-      const double sat = o.p > fr.p_0_pa ? sat_x * sat_y_[j] : sat_floor;
-      wk.sat_p = sat * o.p;
-      wk.tau_static = fr.mu_0 * wk.sat_p;
-      wk.dhx = st.c.a1 * e.dlx + st.c.a2 * e.dlx_p;
-      wk.dhy = st.c.a1 * e.dly + st.c.a2 * e.dly_p;
-      const double uhx = st.c.a1 * e.ux + st.c.a2 * e.ux_p, uhy = st.c.a1 * e.uy + st.c.a2 * e.uy_p;
-      wk.bx = st.m_over_g * uhx - kx * wk.dhx;
-      wk.by = st.m_over_g * uhy - ky * wk.dhy;
-      wk.ndx = wk.dhx + st.g * e.ux;  // predictor for the Omega delta coupling
-      wk.ndy = wk.dhy + st.g * e.uy;
-      o.tx = o.ty = o.vsx = o.vsy = o.s = o.mup = o.s_dmup = o.z = 0.0;
-      o.stuck = false;
-    }
-    for (int pass = 0; pass < passes; ++pass) {
-      int n_solving = 0;
-      for (int k = 0; k < count; ++k) {
-        const ElementState& e = el[strip[k]];
-        const StepTerms& st = *terms[k];
-        StripWork& wk = work[k];
-        NodeSolution& o = out[k];
-        const double rx = vrx0 + Omega * (wk.y + wk.ndy), ry = vry0 - Omega * (x + wk.ndx);
-        wk.ttx = st.dx * rx - wk.bx;  // stress needed to stick
-        wk.tty = st.dy * ry - wk.by;
-        const double t2x = wk.ttx * wk.ttx, t2y = wk.tty * wk.tty;
-        o.stuck = t2x + t2y <= wk.tau_static * wk.tau_static;
-        if (o.stuck) {
-          o.tx = wk.ttx;
-          o.ty = wk.tty;
-          o.s = o.vsx = o.vsy = o.z = 0.0;
-          continue;
-        }
-        // Warm start: the previous pass at this node, else ln|v_s| extrapolated along the element path.
-        const bool have_guess = o.s > 0.0 || e.sliding;
-        const double guess = o.s > 0.0 ? o.z : (e.sliding_p ? e.z + st.w * (e.z - e.z_p) : e.z);
-        wk.problem = SlideProblem{wk.sat_p, t2x, t2y, st.dx, st.dy};
-        if (!wk.root.start(sk, wk.problem, z_floor, savkoor_floor, guess, have_guess)) solving[n_solving++] = k;
-      }
-      while (n_solving > 0) {  // the residuals of all unfinished roots first: independent of each other
-        for (int q = 0; q < n_solving; ++q) {
-          const StripWork& wk = work[solving[q]];
-          residuals[q] = slideResidual(sk, wk.problem, wk.root.z());
-        }
-        int still = 0;
-        for (int q = 0; q < n_solving; ++q) {
-          StripWork& wk = work[solving[q]];
-          if (!wk.root.update(sk, wk.problem, residuals[q], tol, max_it)) solving[still++] = solving[q];
-        }
-        n_solving = still;
-      }
-      for (int k = 0; k < count; ++k) {
-        const StepTerms& st = *terms[k];
-        StripWork& wk = work[k];
-        NodeSolution& o = out[k];
-        if (!o.stuck) {
-          const SlideRoot& root = wk.root.root();
-          max_iterations = std::max(max_iterations, root.iterations);
-          total_iterations += root.iterations;
-          o.s = root.s;
-          if (o.s > 0.0) {
-            o.mup = root.mup;
-            o.s_dmup = root.s_dmup;
-            o.z = root.z;
-            const double gx = st.dx * o.s + o.mup, gy = st.dy * o.s + o.mup;
-            const double inv = 1.0 / (gx * gy);
-            const double igx = gy * inv, igy = gx * inv;
-            o.vsx = -wk.ttx * o.s * igx;
-            o.vsy = -wk.tty * o.s * igy;
-            o.tx = o.mup * wk.ttx * igx;
-            o.ty = o.mup * wk.tty * igy;
-          } else {  // creep at the static limit along the trial direction
-            const double tt = std::sqrt(wk.ttx * wk.ttx + wk.tty * wk.tty);
-            o.vsx = o.vsy = o.z = 0.0;
-            o.tx = wk.tau_static * wk.ttx / tt;
-            o.ty = wk.tau_static * wk.tty / tt;
-          }
-        }
-        const double nux = (o.tx + wk.bx) * st.inv_dx, nuy = (o.ty + wk.by) * st.inv_dy;
-        wk.ndx = wk.dhx + st.g * nux;
-        wk.ndy = wk.dhy + st.g * nuy;
-        if (pass + 1 == passes) {
-          ElementState& e = el[strip[k]];
-          e.dlx_p = e.dlx;
-          e.dly_p = e.dly;
-          e.ux_p = e.ux;
-          e.uy_p = e.uy;
-          e.dlx = wk.ndx;
-          e.dly = wk.ndy;
-          e.ux = nux;
-          e.uy = nuy;
-          e.sliding_p = e.sliding;
-          e.z_p = e.z;
-          e.sliding = o.s > 0.0;
-          e.z = o.z;
-        }
-      }
-    }
-    // Eq 19 per time; at the slide root |tau| = mu p exactly, and ln|v_s| = z is known. Below z_wear_cut
-    // the sliding term is under 1e-9 w4 (deep creep) and is skipped.
-    for (int k = 0; k < count; ++k) {
-      NodeSolution& o = out[k];
-      o.wt = (o.s > 0.0 && o.z > z_wear_cut) ? w4 + std::exp(ln_w3_over_mpa_w1 + w1 * std::log(o.mup) + w2 * o.z) : w4;
-    }
   };
 
   // Substeps needed in a step of duration h [s] that ended in o: sliding on the velocity-weakening
@@ -590,11 +342,11 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
   {  // Leading edge: p = 0, no friction; the element slips at u - v_r.
     const double w0 = wx_[0] * a * b;
     for (int j = 0; j < n_active; ++j) {
-      ElementState& e = el[j];
+      StripRecord& e = rec[j];
       const double y = b * eta_[j];
       NodeSolution o{};
-      o.vsx = e.ux - (vrx0 + Omega * y);
-      o.vsy = e.uy - (vry0 - Omega * a);
+      o.vsx = el.ux[j] - (vrx0 + Omega * y);
+      o.vsy = el.uy[j] - (vry0 - Omega * a);
       o.s = std::sqrt(o.vsx * o.vsx + o.vsy * o.vsy);
       o.wt = w4;
       o.stuck = o.s == 0.0;
@@ -611,7 +363,7 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
 
   for (int i = 0; i < n; ++i) {
     const Step& sp = steps_[i];
-    const StepTerms coarse = stepTerms(sp.ds, Bdf2{sp.a1, sp.a2, sp.beta}, sp.w);
+    const march::StepTerms coarse = stepTerms(sp.ds, Bdf2{sp.a1, sp.a2, sp.beta}, sp.w);
     const double h = a * sp.ds / Vr;  // step duration [s]
     const double x = a * s_[i + 1];
     double sat_x;
@@ -623,24 +375,32 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
     double cfx = 0.0, cfy = 0.0, cmz = 0.0, cwear = 0.0, cstick = 0.0, cexact = 0.0;
     // All strips advance to node i + 1 together; a step is then redone in substeps strip by strip.
     const bool may_refine = refinement_budget > 0;
+    if (may_refine) {  // the state at node i, kept only while a step may be redone in substeps
+      before.copyFrom(el, n_active);
+      std::copy_n(rec.begin(), n_active, rec_before.begin());
+    }
+    bool any_back = false;
     for (int j = 0; j < n_active; ++j) {
-      ElementState& e = el[j];
-      wt_prev[j] = e.wt;
-      if (may_refine) before[j] = e;  // the state at node i, kept only while a step may be redone in substeps
+      wt_prev[j] = rec[j].wt;
+      any_back = any_back || rec[j].refined;
+    }
+    if (any_back) {
       // After substeps the step ratio is 2^level; variable-step BDF2 is zero-stable only below
       // 1 + sqrt(2), so a larger jump restarts with one BDF1 step.
-      if (e.refined) {
-        const double w_back = sp.ds / e.ds;
-        back[j] = stepTerms(sp.ds, bdf2Coefficients(w_back > 2.0 ? 0.0 : w_back), w_back);
-        step_terms[j] = &back[j];
-      } else {
-        step_terms[j] = &coarse;
+      for (int j = 0; j < n_padded; ++j) {
+        if (j < n_active && rec[j].refined) {
+          const double w_back = sp.ds / rec[j].ds;
+          back.set(j, stepTerms(sp.ds, bdf2Coefficients(w_back > 2.0 ? 0.0 : w_back), w_back));
+        } else {
+          back.set(j, coarse);
+        }
       }
     }
-    advanceStrips(n_active, all_strips.data(), step_terms.data(), x, px, sat_x, nodes.data());
+    const march::StepArgs args{&constants, &strip_constants, &coarse, any_back ? &back : nullptr, {x, px, sat_x}};
+    advance_(args, 0, n_active, &el, &nodes, &root_counts);
     for (int j = 0; j < n_active; ++j) {
-      ElementState& e = el[j];
-      NodeSolution& o = nodes[j];
+      StripRecord& e = rec[j];
+      NodeSolution o = nodeOf(nodes, j);
       int level = refinement_budget > 0 ? refinementLevel(o, h) : 0;
       while (level > 0 && (1 << level) > refinement_budget) --level;  // never beyond the node budget
       const double w = wy_[j] * strip_weight[j];
@@ -653,12 +413,13 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
         const int k_sub = 1 << level;
         refinement_budget -= k_sub;
         const double dss = sp.ds / k_sub;
-        const double w_in = before[j].ds > 0.0 ? dss / before[j].ds : 0.0;
-        e = before[j];
+        const double w_in = rec_before[j].ds > 0.0 ? dss / rec_before[j].ds : 0.0;
+        e = rec_before[j];
+        el.copyStrip(before, j);
         double tx0 = e.tx, ty0 = e.ty, wt0 = e.wt, st0 = e.stick, ex0 = e.exact, x0 = a * s_[i];
         double ifx = 0.0, ify = 0.0, imz = 0.0, iw = 0.0, ist = 0.0, iex = 0.0;
-        const StepTerms first = stepTerms(dss, bdf2Coefficients(w_in), w_in);
-        const StepTerms inner = stepTerms(dss, bdf2Coefficients(1.0), 1.0);
+        const march::StepTerms first = stepTerms(dss, bdf2Coefficients(w_in), w_in);
+        const march::StepTerms inner = stepTerms(dss, bdf2Coefficients(1.0), 1.0);
         for (int k = 1; k <= k_sub; ++k) {
           const double s_k = s_[i] - k * dss;  // substep node x/a
           double sat_k = sat_x, px_k = px, x_k = x;
@@ -666,8 +427,10 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
             px_k = pressureX(s_k, gx_.even(s_k), &sat_k);
             x_k = a * s_k;
           }
-          const StepTerms* terms = k == 1 ? &first : &inner;
-          advanceStrips(1, &j, &terms, x_k, px_k, sat_k, &o);
+          const march::StepArgs substep{&constants, &strip_constants, k == 1 ? &first : &inner, nullptr,
+                                        {x_k, px_k, sat_k}};
+          march::advanceScalar(substep, j, 1, &el, &nodes, &root_counts);
+          o = nodeOf(nodes, j);
           const double st1 = o.s <= v_m ? 1.0 : 0.0, ex1 = o.stuck ? 1.0 : 0.0;
           ifx += 0.5 * dss * (tx0 + o.tx);
           ify += 0.5 * dss * (ty0 + o.ty);
@@ -682,12 +445,12 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
         edge_ds = dss;
         const double hds = 0.5 * sp.ds;
         const double st1 = o.s <= v_m ? 1.0 : 0.0, ex1 = o.stuck ? 1.0 : 0.0;
-        cfx += w * (ifx - hds * (before[j].tx + o.tx));
-        cfy += w * (ify - hds * (before[j].ty + o.ty));
-        cmz += w * (imz - hds * (a * s_[i] * before[j].ty - y_mz * before[j].tx + x * o.ty - y_mz * o.tx));
-        cwear += w * (iw - hds * (before[j].wt + o.wt));
-        cstick += w * (ist - hds * (before[j].stick + st1));
-        cexact += w * (iex - hds * (before[j].exact + ex1));
+        cfx += w * (ifx - hds * (rec_before[j].tx + o.tx));
+        cfy += w * (ify - hds * (rec_before[j].ty + o.ty));
+        cmz += w * (imz - hds * (a * s_[i] * rec_before[j].ty - y_mz * rec_before[j].tx + x * o.ty - y_mz * o.tx));
+        cwear += w * (iw - hds * (rec_before[j].wt + o.wt));
+        cstick += w * (ist - hds * (rec_before[j].stick + st1));
+        cexact += w * (iex - hds * (rec_before[j].exact + ex1));
         e.refined = true;
         e.ds = dss;
       } else if (initial_budget > 0) {
@@ -733,8 +496,8 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
   result->exact_stick_fraction = exact_area / area;
   result->half_length_m = a;
   result->half_width_m = b;
-  result->max_root_iterations = max_iterations;
-  result->root_iterations = total_iterations;
+  result->max_root_iterations = root_counts.max_iterations;
+  result->root_iterations = root_counts.total;
   result->refined_substeps = initial_budget - refinement_budget;
 }
 

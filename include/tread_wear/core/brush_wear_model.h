@@ -62,6 +62,13 @@
 
 namespace tread_wear {
 
+namespace march {  // the marcher's x step (src/core/brush_march.h)
+struct StepArgs;
+struct PathState;
+struct NodeLanes;
+struct RootCounts;
+}  // namespace march
+
 /// Lateral quadrature rule across the width y/b in [-1, 1].
 enum class LateralRule {
   kSineMidpoint,  ///< midpoints of n equal cells in t, mapped y/b = sin(pi t/2) (clusters at the shoulders)
@@ -193,6 +200,10 @@ class BrushWearModel {
   std::vector<double> gy_;         ///< g_y at the strip centres
   std::vector<double> sat_y_;      ///< g_y^-q at the strip centres (y factor of sat(p))
   bool y_symmetric_ = false;       ///< g_y even (y_e = 0) and the strip rule mirror-symmetric
+  /// The x step of the strips side by side: packs of strips in SIMD lanes where the CPU allows
+  /// (chosen once, here), else one strip after the other.
+  void (*advance_)(const march::StepArgs&, int first, int count, march::PathState*, march::NodeLanes*,
+                   march::RootCounts*);
 };
 
 }  // namespace tread_wear
