@@ -84,11 +84,6 @@ struct PathState {
   alignas(64) double z_p[kCapacity];        ///< ln|v_s| at the previous node if it slid
   alignas(64) double sliding[kCapacity];    ///< 1 if the current node slid with |v_s| > 0, else 0
   alignas(64) double sliding_p[kCapacity];  ///< the same at the previous node
-
-  /// Copies strips [0, n) of `from`.
-  void copyFrom(const PathState& from, int n);
-  /// Copies strip j of `from`.
-  void copyStrip(const PathState& from, int j);
 };
 
 /// Node solutions of one x step (structure of arrays, index = strip).
@@ -126,16 +121,19 @@ struct StepArgs {
   Node node;
 };
 
-/// Advances strips [first, first + count) by one x step: updates `state` and writes `out`.
-using AdvanceFunction = void (*)(const StepArgs& args, int first, int count, PathState* state, NodeLanes* out,
-                                 RootCounts* counts);
+/// Advances strips [first, first + count) by one x step from the path state `from` to `to` (may be the
+/// same) and writes their node solutions to `out`.
+using AdvanceFunction = void (*)(const StepArgs& args, int first, int count, const PathState& from, PathState* to,
+                                 NodeLanes* out, RootCounts* counts);
 
 /// One strip after the other (any machine; also the substeps).
-void advanceScalar(const StepArgs& args, int first, int count, PathState* state, NodeLanes* out, RootCounts* counts);
+void advanceScalar(const StepArgs& args, int first, int count, const PathState& from, PathState* to, NodeLanes* out,
+                   RootCounts* counts);
 
 #ifdef TREAD_WEAR_AVX2_MARCHER
 /// Four strips per AVX2 pack; call only where the CPU has AVX2 and FMA.
-void advanceAvx2(const StepArgs& args, int first, int count, PathState* state, NodeLanes* out, RootCounts* counts);
+void advanceAvx2(const StepArgs& args, int first, int count, const PathState& from, PathState* to, NodeLanes* out,
+                 RootCounts* counts);
 #endif
 
 /// The fastest advance this CPU runs (decided once).
@@ -169,9 +167,11 @@ struct LaneTraits<double> {
   static long sumLanes(double v) { return static_cast<long>(v); }
 };
 
-/// One x step of the W strips [j, j + W) of which the first `valid` are real (the pack of a lane type V).
+/// One x step of the W strips [j, j + W) of which the first `valid` are real (the pack of a lane type V),
+/// from the path state `from` to `to`. All loads precede all stores, so `to` may be `from`.
 template <class V>
-inline void advancePack(const StepArgs& args, int j, int valid, PathState* el, NodeLanes* out, RootCounts* counts) {
+inline void advancePack(const StepArgs& args, int j, int valid, const PathState& from, PathState* to, NodeLanes* out,
+                        RootCounts* counts) {
   using T = LaneTraits<V>;
   using M = typename T::Mask;
   const Constants& k = *args.k;
@@ -198,13 +198,13 @@ inline void advancePack(const StepArgs& args, int j, int valid, PathState* el, N
   const V sat = select(p > V(k.p_0), V(node.sat_x) * T::load(sc.sat_y + j), V(k.sat_floor));
   const V sat_p = sat * p;  // sat(p) p [Pa]
   const V tau_static = V(k.mu_0) * sat_p;
-  const V e_dlx = T::load(el->dlx + j), e_dly = T::load(el->dly + j);
-  const V e_ux = T::load(el->ux + j), e_uy = T::load(el->uy + j);
-  const V e_z = T::load(el->z + j), e_z_p = T::load(el->z_p + j);
-  const M e_sliding = T::load(el->sliding + j) != V(0.0), e_sliding_p = T::load(el->sliding_p + j) != V(0.0);
-  const V dhx = a1 * e_dlx + a2 * T::load(el->dlx_p + j);  // BDF2 history of delta [m]
-  const V dhy = a1 * e_dly + a2 * T::load(el->dly_p + j);
-  const V uhx = a1 * e_ux + a2 * T::load(el->ux_p + j), uhy = a1 * e_uy + a2 * T::load(el->uy_p + j);
+  const V e_dlx = T::load(from.dlx + j), e_dly = T::load(from.dly + j);
+  const V e_ux = T::load(from.ux + j), e_uy = T::load(from.uy + j);
+  const V e_z = T::load(from.z + j), e_z_p = T::load(from.z_p + j);
+  const M e_sliding = T::load(from.sliding + j) != V(0.0), e_sliding_p = T::load(from.sliding_p + j) != V(0.0);
+  const V dhx = a1 * e_dlx + a2 * T::load(from.dlx_p + j);  // BDF2 history of delta [m]
+  const V dhy = a1 * e_dly + a2 * T::load(from.dly_p + j);
+  const V uhx = a1 * e_ux + a2 * T::load(from.ux_p + j), uhy = a1 * e_uy + a2 * T::load(from.uy_p + j);
   const V bx = m_over_g * uhx - V(k.kx) * dhx;  // history terms of the implicit update [Pa]
   const V by = m_over_g * uhy - V(k.ky) * dhy;
   V ndx = dhx + g * e_ux;  // deflection at the new node: predictor for the Omega delta coupling [m]
@@ -341,18 +341,18 @@ inline void advancePack(const StepArgs& args, int j, int valid, PathState* el, N
   }
 
   // Element state at the new node.
-  T::store(el->dlx_p + j, e_dlx);
-  T::store(el->dly_p + j, e_dly);
-  T::store(el->ux_p + j, e_ux);
-  T::store(el->uy_p + j, e_uy);
-  T::store(el->dlx + j, ndx);
-  T::store(el->dly + j, ndy);
-  T::store(el->ux + j, nux);
-  T::store(el->uy + j, nuy);
-  T::store(el->sliding_p + j, select(e_sliding, V(1.0), V(0.0)));
-  T::store(el->z_p + j, e_z);
-  T::store(el->sliding + j, select(s > V(0.0), V(1.0), V(0.0)));
-  T::store(el->z + j, z);
+  T::store(to->dlx_p + j, e_dlx);
+  T::store(to->dly_p + j, e_dly);
+  T::store(to->ux_p + j, e_ux);
+  T::store(to->uy_p + j, e_uy);
+  T::store(to->dlx + j, ndx);
+  T::store(to->dly + j, ndy);
+  T::store(to->ux + j, nux);
+  T::store(to->uy + j, nuy);
+  T::store(to->sliding_p + j, select(e_sliding, V(1.0), V(0.0)));
+  T::store(to->z_p + j, e_z);
+  T::store(to->sliding + j, select(s > V(0.0), V(1.0), V(0.0)));
+  T::store(to->z + j, z);
 
   // Eq 19 per time; at the slide root |tau| = mu p exactly, and ln|v_s| = z is known. Below z_wear_cut
   // the sliding term is under 1e-9 w4 (deep creep) and is skipped.

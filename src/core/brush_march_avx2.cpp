@@ -80,8 +80,9 @@ struct LaneTraits<F64x4> {
 
 }  // namespace
 
-void advanceAvx2(const StepArgs& args, int first, int count, PathState* state, NodeLanes* out, RootCounts* counts) {
-  for (int j = first; j < first + count; j += 4) advancePack<F64x4>(args, j, first + count - j, state, out, counts);
+void advanceAvx2(const StepArgs& args, int first, int count, const PathState& from, PathState* to, NodeLanes* out,
+                 RootCounts* counts) {
+  for (int j = first; j < first + count; j += 4) advancePack<F64x4>(args, j, first + count - j, from, to, out, counts);
 }
 
 }  // namespace march

@@ -250,13 +250,14 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
   // Per-strip state and per x step work, structure of arrays (march::advance* run packs of strips
   // on them); the strips from n_active to the end of the last pack are zero and never read back.
   const int n_padded = std::min(n_active + march::kMaxLanes, march::kCapacity);
-  march::PathState el;
+  // Two path states, at node i and at node i + 1, swapped after each x step: a step redone in
+  // substeps starts again from node i without a copy.
+  march::PathState paths[2];
+  march::PathState* el = &paths[0];
+  march::PathState* next = &paths[1];
   march::StripConstants strip_constants;
   std::array<StripRecord, GridSpec::kMaxStrips> rec;
-  // Per x step: each strip's state at node i (for substeps), its wear there, its step terms and its node solution.
-  march::PathState before;
-  std::array<StripRecord, GridSpec::kMaxStrips> rec_before;
-  std::array<double, GridSpec::kMaxStrips> wt_prev;
+  // Per x step: step terms of strips coming back from substeps, and the node solutions.
   march::StepTermLanes back;
   march::NodeLanes nodes;
   double strip_weight[GridSpec::kMaxStrips];  // area weight factor of a marched strip (2 for mirrored pairs)
@@ -269,9 +270,9 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
                        &march::PathState::dly_p, &march::PathState::ux_p, &march::PathState::uy_p,
                        &march::PathState::z, &march::PathState::z_p, &march::PathState::sliding,
                        &march::PathState::sliding_p})
-      (el.*field)[j] = 0.0;
-    el.ux[j] = active && options_.enter_at_road_velocity ? vrx0 + Omega * b * eta_[j] : 0.0;
-    el.uy[j] = active && options_.enter_at_road_velocity ? vry0 - Omega * a : 0.0;
+      (el->*field)[j] = 0.0;
+    el->ux[j] = active && options_.enter_at_road_velocity ? vrx0 + Omega * b * eta_[j] : 0.0;
+    el->uy[j] = active && options_.enter_at_road_velocity ? vry0 - Omega * a : 0.0;
   }
   for (int j = 0; j < n_active; ++j) {
     strip_weight[j] = (mirror && 2 * j + 1 != ny) ? 2.0 : 1.0;
@@ -285,7 +286,7 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
     for (int j = 0; j < ny; ++j) fields->y_m[j] = b * eta_[j];
   }
 
-  auto store = [&](int i, int j, const NodeSolution& o) {
+  auto store = [&](int i, int j, const NodeSolution& o, const march::PathState& state) {
     const unsigned char st = o.stuck ? 0 : (o.s <= v_m ? 1 : 2);
     for (int jj : {j, ny - 1 - j}) {
       const int k = fields->index(i, jj);
@@ -294,8 +295,8 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
       fields->tau_y_pa[k] = o.ty;
       fields->v_sx_mps[k] = o.vsx;
       fields->v_sy_mps[k] = o.vsy;
-      fields->delta_x_m[k] = el.dlx[j];
-      fields->delta_y_m[k] = el.dly[j];
+      fields->delta_x_m[k] = state.dlx[j];
+      fields->delta_y_m[k] = state.dly[j];
       fields->wear_kg_per_m3[k] = o.wt / V;
       fields->state[k] = st;
       if (!mirror) break;
@@ -345,8 +346,8 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
       StripRecord& e = rec[j];
       const double y = b * eta_[j];
       NodeSolution o{};
-      o.vsx = el.ux[j] - (vrx0 + Omega * y);
-      o.vsy = el.uy[j] - (vry0 - Omega * a);
+      o.vsx = el->ux[j] - (vrx0 + Omega * y);
+      o.vsy = el->uy[j] - (vry0 - Omega * a);
       o.s = std::sqrt(o.vsx * o.vsx + o.vsy * o.vsy);
       o.wt = w4;
       o.stuck = o.s == 0.0;
@@ -357,7 +358,7 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
       wear_t += w4 * w;
       stick_area += e.stick * w;
       exact_area += e.exact * w;
-      if (fields) store(0, j, o);
+      if (fields) store(0, j, o, *el);
     }
   }
 
@@ -374,16 +375,8 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
     double fx_i = 0.0, fy_i = 0.0, mz_y = 0.0, wear_i = 0.0, stick_i = 0.0, exact_i = 0.0;
     double cfx = 0.0, cfy = 0.0, cmz = 0.0, cwear = 0.0, cstick = 0.0, cexact = 0.0;
     // All strips advance to node i + 1 together; a step is then redone in substeps strip by strip.
-    const bool may_refine = refinement_budget > 0;
-    if (may_refine) {  // the state at node i, kept only while a step may be redone in substeps
-      before.copyFrom(el, n_active);
-      std::copy_n(rec.begin(), n_active, rec_before.begin());
-    }
     bool any_back = false;
-    for (int j = 0; j < n_active; ++j) {
-      wt_prev[j] = rec[j].wt;
-      any_back = any_back || rec[j].refined;
-    }
+    for (int j = 0; j < n_active; ++j) any_back = any_back || rec[j].refined;
     if (any_back) {
       // After substeps the step ratio is 2^level; variable-step BDF2 is zero-stable only below
       // 1 + sqrt(2), so a larger jump restarts with one BDF1 step.
@@ -397,7 +390,7 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
       }
     }
     const march::StepArgs args{&constants, &strip_constants, &coarse, any_back ? &back : nullptr, {x, px, sat_x}};
-    advance_(args, 0, n_active, &el, &nodes, &root_counts);
+    advance_(args, 0, n_active, *el, next, &nodes, &root_counts);
     for (int j = 0; j < n_active; ++j) {
       StripRecord& e = rec[j];
       NodeSolution o = nodeOf(nodes, j);
@@ -406,16 +399,15 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
       const double w = wy_[j] * strip_weight[j];
       const double y = b * eta_[j];
       const double y_mz = mirror ? 0.0 : y;  // the y tau_x terms of mirrored pairs cancel
-      double wt_lead = o.wt, wt_trail = wt_prev[j], edge_ds = sp.ds;  // wear next to an edge of the patch
+      double wt_lead = o.wt, wt_trail = e.wt, edge_ds = sp.ds;  // wear next to an edge of the patch
       if (level > 0) {
         // Redo the step in 2^level equal substeps ending on the node; integrate the strip's outputs over
         // them by the trapezoid rule and add the difference to the coarse trapezoid of this step.
         const int k_sub = 1 << level;
         refinement_budget -= k_sub;
         const double dss = sp.ds / k_sub;
-        const double w_in = rec_before[j].ds > 0.0 ? dss / rec_before[j].ds : 0.0;
-        e = rec_before[j];
-        el.copyStrip(before, j);
+        const double w_in = e.ds > 0.0 ? dss / e.ds : 0.0;
+        const StripRecord at_i = e;  // e still holds node i (updated below)
         double tx0 = e.tx, ty0 = e.ty, wt0 = e.wt, st0 = e.stick, ex0 = e.exact, x0 = a * s_[i];
         double ifx = 0.0, ify = 0.0, imz = 0.0, iw = 0.0, ist = 0.0, iex = 0.0;
         const march::StepTerms first = stepTerms(dss, bdf2Coefficients(w_in), w_in);
@@ -429,7 +421,7 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
           }
           const march::StepArgs substep{&constants, &strip_constants, k == 1 ? &first : &inner, nullptr,
                                         {x_k, px_k, sat_k}};
-          march::advanceScalar(substep, j, 1, &el, &nodes, &root_counts);
+          march::advanceScalar(substep, j, 1, k == 1 ? *el : *next, next, &nodes, &root_counts);
           o = nodeOf(nodes, j);
           const double st1 = o.s <= v_m ? 1.0 : 0.0, ex1 = o.stuck ? 1.0 : 0.0;
           ifx += 0.5 * dss * (tx0 + o.tx);
@@ -445,12 +437,12 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
         edge_ds = dss;
         const double hds = 0.5 * sp.ds;
         const double st1 = o.s <= v_m ? 1.0 : 0.0, ex1 = o.stuck ? 1.0 : 0.0;
-        cfx += w * (ifx - hds * (rec_before[j].tx + o.tx));
-        cfy += w * (ify - hds * (rec_before[j].ty + o.ty));
-        cmz += w * (imz - hds * (a * s_[i] * rec_before[j].ty - y_mz * rec_before[j].tx + x * o.ty - y_mz * o.tx));
-        cwear += w * (iw - hds * (rec_before[j].wt + o.wt));
-        cstick += w * (ist - hds * (rec_before[j].stick + st1));
-        cexact += w * (iex - hds * (rec_before[j].exact + ex1));
+        cfx += w * (ifx - hds * (at_i.tx + o.tx));
+        cfy += w * (ify - hds * (at_i.ty + o.ty));
+        cmz += w * (imz - hds * (a * s_[i] * at_i.ty - y_mz * at_i.tx + x * o.ty - y_mz * o.tx));
+        cwear += w * (iw - hds * (at_i.wt + o.wt));
+        cstick += w * (ist - hds * (at_i.stick + st1));
+        cexact += w * (iex - hds * (at_i.exact + ex1));
         e.refined = true;
         e.ds = dss;
       } else if (initial_budget > 0) {
@@ -474,8 +466,9 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
       wear_i += o.wt * w;
       stick_i += stick * w;
       exact_i += exact * w;
-      if (fields) store(i + 1, j, o);
+      if (fields) store(i + 1, j, o, *next);
     }
+    std::swap(el, next);
     const double ab = a * b;
     fx += fx_i * wxa + cfx * ab;
     fy += fy_i * wxa + cfy * ab;

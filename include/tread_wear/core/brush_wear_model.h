@@ -202,8 +202,8 @@ class BrushWearModel {
   bool y_symmetric_ = false;       ///< g_y even (y_e = 0) and the strip rule mirror-symmetric
   /// The x step of the strips side by side: packs of strips in SIMD lanes where the CPU allows
   /// (chosen once, here), else one strip after the other.
-  void (*advance_)(const march::StepArgs&, int first, int count, march::PathState*, march::NodeLanes*,
-                   march::RootCounts*);
+  void (*advance_)(const march::StepArgs&, int first, int count, const march::PathState& from, march::PathState* to,
+                   march::NodeLanes*, march::RootCounts*);
 };
 
 }  // namespace tread_wear
