@@ -65,6 +65,10 @@ struct Constants {
   double w1, w2, w4;          ///< wear law exponents and the constant term [kg/(s m^2)]
   double ln_w3_over_mpa_w1;   ///< ln(w3 / (1 MPa)^w1)
   double z_wear_cut;          ///< ln|v_s| below which the sliding wear term is skipped
+  double v_m;                 ///< sliding speed of peak friction: the stick fraction counts |v_s| <= v_m [m/s]
+  bool refine;                ///< compute NodeLanes::refine_rate (local refinement on)
+  double m, cx, cy;           ///< element mass [kg/m^2] and damping [Pa s/m]
+  double damping_ratio;       ///< refine below this ratio of effective to critical damping [-]
 };
 
 /// Strip constants of one evaluation.
@@ -72,6 +76,8 @@ struct StripConstants {
   alignas(64) double y[kCapacity];      ///< strip centre [m]
   alignas(64) double gy[kCapacity];     ///< g_y [-]
   alignas(64) double sat_y[kCapacity];  ///< g_y^-q (y factor of sat(p)) [-]
+  alignas(64) double weight[kCapacity];  ///< area weight in y/b of the strip (x 2 for a mirrored pair; 0 past the last)
+  alignas(64) double y_mz[kCapacity];   ///< lever arm of tau_x in Mz [m] (0 for mirrored pairs, whose terms cancel)
 };
 
 /// State of the element travelling along each strip (structure of arrays, index = strip).
@@ -96,6 +102,19 @@ struct NodeLanes {
   alignas(64) double s_dmup[kCapacity];          ///< |v_s| d(mu p)/d|v_s| at the slide root [Pa]
   alignas(64) double wt[kCapacity];              ///< wear per time and area, Eq 19 [kg/(s m^2)]
   alignas(64) double stuck[kCapacity];           ///< 1 for exact stick (v_s = 0), else 0
+  /// Where the step ends sliding on the velocity-weakening branch with an effective damping c + d(mu p)/d|v_s|
+  /// along the slip below damping_ratio x critical: the element's own rate max(sqrt(k/m), -c_eff/m) that
+  /// substeps must resolve [1/s]; else 0.
+  alignas(64) double refine_rate[kCapacity];
+};
+
+/// Weighted sums over strips of the node solutions of one x step, per lane (added up by the caller).
+struct NodeSums {
+  double tx[kMaxLanes], ty[kMaxLanes];  ///< sum of w tau [Pa]
+  double y_tx[kMaxLanes];               ///< sum of w y_mz tau_x [Pa m]
+  double wt[kMaxLanes];                 ///< sum of w wear per time and area [kg/(s m^2)]
+  double stick[kMaxLanes];              ///< sum of w (|v_s| <= v_m)
+  double exact[kMaxLanes];              ///< sum of w (v_s = 0)
 };
 
 /// The node an x step goes to.
@@ -119,6 +138,7 @@ struct StepArgs {
   const StepTerms* uniform;
   const StepTermLanes* per_strip;
   Node node;
+  NodeSums* sums;  ///< where to add the weighted node solutions, or nullptr
 };
 
 /// Advances strips [first, first + count) by one x step from the path state `from` to `to` (may be the
@@ -362,6 +382,32 @@ inline void advancePack(const StepArgs& args, int j, int valid, const PathState&
     const V sliding_wear = vexp(V(k.ln_w3_over_mpa_w1) + V(k.w1) * vlog(select(wearing, mup, V(1.0))) + V(k.w2) * z);
     wt = select(wearing, V(k.w4) + sliding_wear, wt);
   }
+  V refine_rate(0.0);
+  if (k.refine) {
+    const M fast = real & (s > V(k.v_m));
+    if (any(fast)) {
+      const V s_fast = select(fast, s, V(1.0));
+      const V nx2 = vsx * vsx / (s_fast * s_fast), ny2 = V(1.0) - nx2;  // squared slip direction
+      const V k_dir = V(k.kx) * nx2 + V(k.ky) * ny2;
+      const V c_eff = V(k.cx) * nx2 + V(k.cy) * ny2 + s_dmup / s_fast;
+      const V c_crit = V(2.0) * vsqrt(V(k.m) * k_dir);
+      const M weakly_damped = fast & !(c_eff >= V(k.damping_ratio) * c_crit);
+      refine_rate = select(weakly_damped, vmax(vsqrt(k_dir / V(k.m)), -c_eff / V(k.m)), refine_rate);
+    }
+  }
+  if (args.sums) {
+    NodeSums& sum = *args.sums;
+    const V weight = T::load(sc.weight + j);
+    const V zero(0.0);
+    const V wtx = select(real, weight * tx, zero);  // lanes past the last strip add nothing
+    T::store(sum.tx, T::load(sum.tx) + wtx);
+    T::store(sum.ty, T::load(sum.ty) + select(real, weight * ty, zero));
+    T::store(sum.y_tx, T::load(sum.y_tx) + T::load(sc.y_mz + j) * wtx);
+    T::store(sum.wt, T::load(sum.wt) + select(real, weight * wt, zero));
+    T::store(sum.stick, T::load(sum.stick) + select(real & (s <= V(k.v_m)), weight, zero));
+    T::store(sum.exact, T::load(sum.exact) + select(real & stuck, weight, zero));
+  }
+  T::store(out->refine_rate + j, refine_rate);
   T::store(out->p + j, p);
   T::store(out->tx + j, tx);
   T::store(out->ty + j, ty);

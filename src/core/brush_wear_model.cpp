@@ -157,14 +157,6 @@ BrushWearModel::BrushWearModel(const TireParams& params, const BrushOptions& opt
 
 namespace {
 
-/// The element's bookkeeping along one strip besides its path state (march::PathState): what the
-/// trapezoid correction of a step redone in substeps needs.
-struct StripRecord {
-  bool refined;                     ///< the last coarse step was taken in substeps
-  double ds;                        ///< length of the last step taken [-] (x/a units)
-  double tx, ty, wt, stick, exact;  ///< tau [Pa], wear per time and area [kg/(s m^2)], stick flags at the node
-};
-
 /// Result of one implicit step of one element.
 struct NodeSolution {
   double p;              ///< pressure [Pa]
@@ -246,6 +238,12 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
   constants.w4 = w4;
   constants.ln_w3_over_mpa_w1 = ln_w3_over_mpa_w1;
   constants.z_wear_cut = z_wear_cut;
+  constants.v_m = v_m;
+  constants.refine = initial_budget > 0;
+  constants.m = m;
+  constants.cx = cx;
+  constants.cy = cy;
+  constants.damping_ratio = options_.refinement.damping_ratio;
 
   // Per-strip state and per x step work, structure of arrays (march::advance* run packs of strips
   // on them); the strips from n_active to the end of the last pack are zero and never read back.
@@ -255,14 +253,23 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
   march::PathState paths[2];
   march::PathState* el = &paths[0];
   march::PathState* next = &paths[1];
+  // Node solutions at node i and at node i + 1, swapped after each x step: those at node i are the
+  // start of the trapezoid correction of a step redone in substeps.
+  march::NodeLanes node_buffers[2];
+  march::NodeLanes* prev_nodes = &node_buffers[0];
+  march::NodeLanes* nodes = &node_buffers[1];
   march::StripConstants strip_constants;
-  std::array<StripRecord, GridSpec::kMaxStrips> rec;
-  // Per x step: step terms of strips coming back from substeps, and the node solutions.
+  // Substep length [x/a] of the strips whose last step was redone in substeps, else 0; their count.
+  double substep_ds[GridSpec::kMaxStrips];
+  int n_back = 0;
+  // Per x step: step terms of strips coming back from substeps, and the weighted sums of the node solutions.
   march::StepTermLanes back;
-  march::NodeLanes nodes;
-  double strip_weight[GridSpec::kMaxStrips];  // area weight factor of a marched strip (2 for mirrored pairs)
+  march::NodeSums sums;
   for (int j = 0; j < n_padded; ++j) {
     const bool active = j < n_active;
+    const double mirror_factor = (mirror && 2 * j + 1 != ny) ? 2.0 : 1.0;  // a mirrored pair counts twice
+    strip_constants.weight[j] = active ? wy_[j] * mirror_factor : 0.0;
+    strip_constants.y_mz[j] = active && !mirror ? b * eta_[j] : 0.0;
     strip_constants.y[j] = active ? b * eta_[j] : 0.0;
     strip_constants.gy[j] = active ? gy_[j] : 0.0;
     strip_constants.sat_y[j] = active ? sat_y_[j] : 0.0;
@@ -274,10 +281,7 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
     el->ux[j] = active && options_.enter_at_road_velocity ? vrx0 + Omega * b * eta_[j] : 0.0;
     el->uy[j] = active && options_.enter_at_road_velocity ? vry0 - Omega * a : 0.0;
   }
-  for (int j = 0; j < n_active; ++j) {
-    strip_weight[j] = (mirror && 2 * j + 1 != ny) ? 2.0 : 1.0;
-    rec[j] = StripRecord{};
-  }
+  for (int j = 0; j < n_active; ++j) substep_ds[j] = 0.0;
   march::RootCounts root_counts;
 
   double fx = 0.0, fy = 0.0, mz = 0.0, wear_t = 0.0, stick_area = 0.0, exact_area = 0.0;
@@ -324,41 +328,24 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
     return px;
   };
 
-  // Substeps needed in a step of duration h [s] that ended in o: sliding on the velocity-weakening
-  // branch with little effective damping c + d(mu p)/d|v_s| along the slip makes the element oscillate
-  // or run away (stick-slip bursts) on its own time scale, which the step must resolve.
-  auto refinementLevel = [&](const NodeSolution& o, double h) {
-    if (!(o.s > v_m)) return 0;
-    const double nx2 = o.vsx * o.vsx / (o.s * o.s), ny2 = 1.0 - nx2;
-    const double k_dir = kx * nx2 + ky * ny2;
-    const double c_eff = cx * nx2 + cy * ny2 + o.s_dmup / o.s;
-    const double c_crit = 2.0 * std::sqrt(m * k_dir);
-    if (c_eff >= options_.refinement.damping_ratio * c_crit) return 0;
-    const double rate = std::max(std::sqrt(k_dir / m), -c_eff / m);  // [1/s]
-    const double r = rate * h / options_.refinement.resolution;
-    if (r <= 1.0) return 0;
-    return std::min(max_level, static_cast<int>(std::ceil(std::log2(r))));
-  };
-
   {  // Leading edge: p = 0, no friction; the element slips at u - v_r.
     const double w0 = wx_[0] * a * b;
     for (int j = 0; j < n_active; ++j) {
-      StripRecord& e = rec[j];
       const double y = b * eta_[j];
-      NodeSolution o{};
-      o.vsx = el->ux[j] - (vrx0 + Omega * y);
-      o.vsy = el->uy[j] - (vry0 - Omega * a);
-      o.s = std::sqrt(o.vsx * o.vsx + o.vsy * o.vsy);
-      o.wt = w4;
-      o.stuck = o.s == 0.0;
-      const double w = w0 * wy_[j] * strip_weight[j];
-      e.wt = w4;
-      e.stick = o.s <= v_m ? 1.0 : 0.0;
-      e.exact = o.stuck ? 1.0 : 0.0;
+      const double vsx = el->ux[j] - (vrx0 + Omega * y), vsy = el->uy[j] - (vry0 - Omega * a);
+      const double vs = std::sqrt(vsx * vsx + vsy * vsy);
+      march::NodeLanes& o = *prev_nodes;
+      o.p[j] = o.tx[j] = o.ty[j] = o.z[j] = o.mup[j] = o.s_dmup[j] = o.refine_rate[j] = 0.0;
+      o.vsx[j] = vsx;
+      o.vsy[j] = vsy;
+      o.s[j] = vs;
+      o.wt[j] = w4;
+      o.stuck[j] = vs == 0.0 ? 1.0 : 0.0;
+      const double w = w0 * strip_constants.weight[j];
       wear_t += w4 * w;
-      stick_area += e.stick * w;
-      exact_area += e.exact * w;
-      if (fields) store(0, j, o, *el);
+      stick_area += (vs <= v_m ? 1.0 : 0.0) * w;
+      exact_area += o.stuck[j] * w;
+      if (fields) store(0, j, nodeOf(o, j), *el);
     }
   }
 
@@ -371,44 +358,63 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
     const double px = pressureX(s_[i + 1], gx_even_[i + 1], &sat_x);
     const double wxa = wx_[i + 1] * a * b;
     const bool edge_step = i == 0 || i == n - 1;
-    // Sums over strips of the node values (weight wx) and of the corrections of refined steps (x/a units).
-    double fx_i = 0.0, fy_i = 0.0, mz_y = 0.0, wear_i = 0.0, stick_i = 0.0, exact_i = 0.0;
-    double cfx = 0.0, cfy = 0.0, cmz = 0.0, cwear = 0.0, cstick = 0.0, cexact = 0.0;
     // All strips advance to node i + 1 together; a step is then redone in substeps strip by strip.
-    bool any_back = false;
-    for (int j = 0; j < n_active; ++j) any_back = any_back || rec[j].refined;
-    if (any_back) {
+    if (n_back > 0) {
       // After substeps the step ratio is 2^level; variable-step BDF2 is zero-stable only below
       // 1 + sqrt(2), so a larger jump restarts with one BDF1 step.
       for (int j = 0; j < n_padded; ++j) {
-        if (j < n_active && rec[j].refined) {
-          const double w_back = sp.ds / rec[j].ds;
+        if (j < n_active && substep_ds[j] > 0.0) {
+          const double w_back = sp.ds / substep_ds[j];
           back.set(j, stepTerms(sp.ds, bdf2Coefficients(w_back > 2.0 ? 0.0 : w_back), w_back));
         } else {
           back.set(j, coarse);
         }
       }
     }
-    const march::StepArgs args{&constants, &strip_constants, &coarse, any_back ? &back : nullptr, {x, px, sat_x}};
-    advance_(args, 0, n_active, *el, next, &nodes, &root_counts);
+    sums = march::NodeSums{};
+    const march::StepArgs args{&constants, &strip_constants, &coarse, n_back > 0 ? &back : nullptr, {x, px, sat_x},
+                               &sums};
+    advance_(args, 0, n_active, *el, next, nodes, &root_counts);
+    // Sums over strips of the node values (weight wx) and of the corrections of refined steps (x/a units).
+    double fx_i = 0.0, fy_i = 0.0, mz_y = 0.0, wear_i = 0.0, stick_i = 0.0, exact_i = 0.0;
+    for (int lane = 0; lane < march::kMaxLanes; ++lane) {
+      fx_i += sums.tx[lane];
+      fy_i += sums.ty[lane];
+      mz_y += sums.y_tx[lane];
+      wear_i += sums.wt[lane];
+      stick_i += sums.stick[lane];
+      exact_i += sums.exact[lane];
+    }
+    double cfx = 0.0, cfy = 0.0, cmz = 0.0, cwear = 0.0, cstick = 0.0, cexact = 0.0;
+    // Strips that need more than their node solution: steps redone in substeps, the edge wear, the fields.
+    const bool visit_all = edge_step || fields != nullptr;
+    int n_refined = 0;
     for (int j = 0; j < n_active; ++j) {
-      StripRecord& e = rec[j];
-      NodeSolution o = nodeOf(nodes, j);
-      int level = refinement_budget > 0 ? refinementLevel(o, h) : 0;
-      while (level > 0 && (1 << level) > refinement_budget) --level;  // never beyond the node budget
-      const double w = wy_[j] * strip_weight[j];
-      const double y = b * eta_[j];
-      const double y_mz = mirror ? 0.0 : y;  // the y tau_x terms of mirrored pairs cancel
-      double wt_lead = o.wt, wt_trail = e.wt, edge_ds = sp.ds;  // wear next to an edge of the patch
+      // Substeps: the smallest level L with rate h / 2^L <= resolution, within max_level and the budget.
+      int level = 0;
+      const double rate = nodes->refine_rate[j];
+      if (rate > 0.0 && refinement_budget > 0) {
+        const double r = rate * h / options_.refinement.resolution;
+        if (r > 1.0) level = std::min(max_level, static_cast<int>(std::ceil(std::log2(r))));
+        while (level > 0 && (1 << level) > refinement_budget) --level;  // never beyond the node budget
+      }
+      const double last_ds = substep_ds[j] > 0.0 ? substep_ds[j] : (i > 0 ? steps_[i - 1].ds : 0.0);
+      substep_ds[j] = 0.0;
+      if (level == 0 && !visit_all) continue;
+      NodeSolution o = nodeOf(*nodes, j);
+      const double w = strip_constants.weight[j];
+      const double y_mz = strip_constants.y_mz[j];
+      double wt_lead = o.wt, wt_trail = prev_nodes->wt[j], edge_ds = sp.ds;  // wear next to an edge of the patch
       if (level > 0) {
         // Redo the step in 2^level equal substeps ending on the node; integrate the strip's outputs over
         // them by the trapezoid rule and add the difference to the coarse trapezoid of this step.
         const int k_sub = 1 << level;
         refinement_budget -= k_sub;
         const double dss = sp.ds / k_sub;
-        const double w_in = e.ds > 0.0 ? dss / e.ds : 0.0;
-        const StripRecord at_i = e;  // e still holds node i (updated below)
-        double tx0 = e.tx, ty0 = e.ty, wt0 = e.wt, st0 = e.stick, ex0 = e.exact, x0 = a * s_[i];
+        const double w_in = last_ds > 0.0 ? dss / last_ds : 0.0;
+        const NodeSolution at_i = nodeOf(*prev_nodes, j), coarse_o = o;
+        const double stick_at_i = at_i.s <= v_m ? 1.0 : 0.0, exact_at_i = at_i.stuck ? 1.0 : 0.0;
+        double tx0 = at_i.tx, ty0 = at_i.ty, wt0 = at_i.wt, st0 = stick_at_i, ex0 = exact_at_i, x0 = a * s_[i];
         double ifx = 0.0, ify = 0.0, imz = 0.0, iw = 0.0, ist = 0.0, iex = 0.0;
         const march::StepTerms first = stepTerms(dss, bdf2Coefficients(w_in), w_in);
         const march::StepTerms inner = stepTerms(dss, bdf2Coefficients(1.0), 1.0);
@@ -420,9 +426,9 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
             x_k = a * s_k;
           }
           const march::StepArgs substep{&constants, &strip_constants, k == 1 ? &first : &inner, nullptr,
-                                        {x_k, px_k, sat_k}};
-          march::advanceScalar(substep, j, 1, k == 1 ? *el : *next, next, &nodes, &root_counts);
-          o = nodeOf(nodes, j);
+                                        {x_k, px_k, sat_k}, nullptr};
+          march::advanceScalar(substep, j, 1, k == 1 ? *el : *next, next, nodes, &root_counts);
+          o = nodeOf(*nodes, j);
           const double st1 = o.s <= v_m ? 1.0 : 0.0, ex1 = o.stuck ? 1.0 : 0.0;
           ifx += 0.5 * dss * (tx0 + o.tx);
           ify += 0.5 * dss * (ty0 + o.ty);
@@ -441,34 +447,26 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
         cfy += w * (ify - hds * (at_i.ty + o.ty));
         cmz += w * (imz - hds * (a * s_[i] * at_i.ty - y_mz * at_i.tx + x * o.ty - y_mz * o.tx));
         cwear += w * (iw - hds * (at_i.wt + o.wt));
-        cstick += w * (ist - hds * (at_i.stick + st1));
-        cexact += w * (iex - hds * (at_i.exact + ex1));
-        e.refined = true;
-        e.ds = dss;
-      } else if (initial_budget > 0) {
-        e.refined = false;
-        e.ds = sp.ds;
-      }
-      const double stick = o.s <= v_m ? 1.0 : 0.0, exact = o.stuck ? 1.0 : 0.0;
-      e.wt = o.wt;
-      if (initial_budget > 0) {  // node values for the trapezoid correction of a later refined step
-        e.tx = o.tx;
-        e.ty = o.ty;
-        e.stick = stick;
-        e.exact = exact;
+        cstick += w * (ist - hds * (stick_at_i + st1));
+        cexact += w * (iex - hds * (exact_at_i + ex1));
+        // The node sums hold this strip's coarse solution at node i + 1: replace it by the substeps' one.
+        fx_i += w * (o.tx - coarse_o.tx);
+        fy_i += w * (o.ty - coarse_o.ty);
+        mz_y += w * y_mz * (o.tx - coarse_o.tx);
+        wear_i += w * (o.wt - coarse_o.wt);
+        stick_i += w * (st1 - (coarse_o.s <= v_m ? 1.0 : 0.0));
+        exact_i += w * (ex1 - (coarse_o.stuck ? 1.0 : 0.0));
+        substep_ds[j] = dss;
+        ++n_refined;
       }
       // p vanishes linearly at x = +-a, so the sliding wear ~ tau^w1 ~ p^w1 has an endpoint singularity
       // there: on the interval next to an edge its integral is h f/(1 + w1), not the trapezoid's h f/2.
       if (edge_step) cwear += w * edge_weight * edge_ds * ((i == 0 ? wt_lead : wt_trail) - w4);
-      fx_i += o.tx * w;
-      fy_i += o.ty * w;
-      if (!mirror) mz_y += y * o.tx * w;
-      wear_i += o.wt * w;
-      stick_i += stick * w;
-      exact_i += exact * w;
       if (fields) store(i + 1, j, o, *next);
     }
+    n_back = n_refined;
     std::swap(el, next);
+    std::swap(prev_nodes, nodes);
     const double ab = a * b;
     fx += fx_i * wxa + cfx * ab;
     fy += fy_i * wxa + cfy * ab;
