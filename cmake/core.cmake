@@ -12,17 +12,20 @@ install(DIRECTORY config data launch DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINAT
 # Bounded nonlinear least squares for calibration (least_squares.h): Ceres Solver (Debian libceres-dev).
 find_package(Ceres REQUIRED)
 target_link_libraries(tread_wear_core PUBLIC Ceres::ceres)
-# The marcher's x step on packs of four strips (src/core/brush_march_avx2.cpp): AVX2 + FMA with glibc's
-# libmvec vector exp/log, selected at run time on CPUs that have them; elsewhere the strips run one by one.
-option(TREAD_WEAR_SIMD_MARCHER "Build the AVX2 marcher kernel (x86-64 with glibc libmvec)" ON)
+# The marcher's x step on SIMD packs of strips with glibc's libmvec vector exp/log: four strips per AVX2 + FMA
+# pack (src/core/brush_march_avx2.cpp, compiled for AVX2, chosen at run time on CPUs that have it), else two
+# per SSE2 pack (the x86-64 baseline). Elsewhere, or with the option off, the strips run one at a time.
+option(TREAD_WEAR_SIMD_MARCHER "SIMD marcher kernels (x86-64 with glibc libmvec)" ON)
 find_library(TREAD_WEAR_MVEC_LIBRARY mvec)
-set(TREAD_WEAR_AVX2_SOURCE ${PROJECT_SOURCE_DIR}/src/core/brush_march_avx2.cpp)
+set(TREAD_WEAR_SIMD_SOURCES ${PROJECT_SOURCE_DIR}/src/core/brush_march_avx2.cpp
+    ${PROJECT_SOURCE_DIR}/src/core/brush_march_sse2.cpp)
 if(TREAD_WEAR_SIMD_MARCHER AND CMAKE_SYSTEM_PROCESSOR MATCHES "^(x86_64|AMD64|amd64)$" AND TREAD_WEAR_MVEC_LIBRARY)
-  set_source_files_properties(${TREAD_WEAR_AVX2_SOURCE} PROPERTIES COMPILE_OPTIONS "-mavx2;-mfma")
-  target_compile_definitions(tread_wear_core PRIVATE TREAD_WEAR_AVX2_MARCHER)
+  set_source_files_properties(${PROJECT_SOURCE_DIR}/src/core/brush_march_avx2.cpp PROPERTIES COMPILE_OPTIONS
+                              "-mavx2;-mfma")
+  target_compile_definitions(tread_wear_core PRIVATE TREAD_WEAR_SIMD_MARCHER)
   target_link_libraries(tread_wear_core PRIVATE ${TREAD_WEAR_MVEC_LIBRARY})
-  message(STATUS "tread_wear: AVX2 marcher kernel on (${TREAD_WEAR_MVEC_LIBRARY})")
+  message(STATUS "tread_wear: SIMD marcher kernels on (${TREAD_WEAR_MVEC_LIBRARY})")
 else()
-  set_source_files_properties(${TREAD_WEAR_AVX2_SOURCE} PROPERTIES HEADER_FILE_ONLY ON)
-  message(STATUS "tread_wear: AVX2 marcher kernel off")
+  set_source_files_properties(${TREAD_WEAR_SIMD_SOURCES} PROPERTIES HEADER_FILE_ONLY ON)
+  message(STATUS "tread_wear: SIMD marcher kernels off (strips one at a time)")
 endif()

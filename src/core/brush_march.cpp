@@ -9,11 +9,13 @@ void advanceScalar(const StepArgs& args, int first, int count, const PathState& 
 }
 
 AdvanceFunction fastestAdvance() {
-#ifdef TREAD_WEAR_AVX2_MARCHER
+#ifdef TREAD_WEAR_SIMD_MARCHER
   __builtin_cpu_init();
   if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) return advanceAvx2;
-#endif
+  return advanceSse2;
+#else
   return advanceScalar;
+#endif
 }
 
 }  // namespace march

@@ -150,7 +150,10 @@ using AdvanceFunction = void (*)(const StepArgs& args, int first, int count, con
 void advanceScalar(const StepArgs& args, int first, int count, const PathState& from, PathState* to, NodeLanes* out,
                    RootCounts* counts);
 
-#ifdef TREAD_WEAR_AVX2_MARCHER
+#ifdef TREAD_WEAR_SIMD_MARCHER
+/// Two strips per SSE2 pack (the x86-64 baseline).
+void advanceSse2(const StepArgs& args, int first, int count, const PathState& from, PathState* to, NodeLanes* out,
+                 RootCounts* counts);
 /// Four strips per AVX2 pack; call only where the CPU has AVX2 and FMA.
 void advanceAvx2(const StepArgs& args, int first, int count, const PathState& from, PathState* to, NodeLanes* out,
                  RootCounts* counts);
