@@ -259,7 +259,9 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
   march::NodeLanes* prev_nodes = &node_buffers[0];
   march::NodeLanes* nodes = &node_buffers[1];
   march::StripConstants strip_constants;
-  // Substep length [x/a] of the strips whose last step was redone in substeps, else 0; their count.
+  // Of a strip whose step was redone in substeps: the last such step and its substep length [x/a]; the
+  // number of strips redone in the previous step.
+  int refined_step[GridSpec::kMaxStrips];
   double substep_ds[GridSpec::kMaxStrips];
   int n_back = 0;
   // Per x step: step terms of strips coming back from substeps, and the weighted sums of the node solutions.
@@ -281,7 +283,7 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
     el->ux[j] = active && options_.enter_at_road_velocity ? vrx0 + Omega * b * eta_[j] : 0.0;
     el->uy[j] = active && options_.enter_at_road_velocity ? vry0 - Omega * a : 0.0;
   }
-  for (int j = 0; j < n_active; ++j) substep_ds[j] = 0.0;
+  for (int j = 0; j < n_active; ++j) refined_step[j] = -2;  // none
   march::RootCounts root_counts;
 
   double fx = 0.0, fy = 0.0, mz = 0.0, wear_t = 0.0, stick_area = 0.0, exact_area = 0.0;
@@ -363,7 +365,7 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
       // After substeps the step ratio is 2^level; variable-step BDF2 is zero-stable only below
       // 1 + sqrt(2), so a larger jump restarts with one BDF1 step.
       for (int j = 0; j < n_padded; ++j) {
-        if (j < n_active && substep_ds[j] > 0.0) {
+        if (j < n_active && refined_step[j] == i - 1) {
           const double w_back = sp.ds / substep_ds[j];
           back.set(j, stepTerms(sp.ds, bdf2Coefficients(w_back > 2.0 ? 0.0 : w_back), w_back));
         } else {
@@ -390,16 +392,15 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
     const bool visit_all = edge_step || fields != nullptr;
     int n_refined = 0;
     for (int j = 0; j < n_active; ++j) {
+      const double rate = nodes->refine_rate[j];
+      if (!(rate > 0.0) && !visit_all) continue;
       // Substeps: the smallest level L with rate h / 2^L <= resolution, within max_level and the budget.
       int level = 0;
-      const double rate = nodes->refine_rate[j];
       if (rate > 0.0 && refinement_budget > 0) {
         const double r = rate * h / options_.refinement.resolution;
         if (r > 1.0) level = std::min(max_level, static_cast<int>(std::ceil(std::log2(r))));
         while (level > 0 && (1 << level) > refinement_budget) --level;  // never beyond the node budget
       }
-      const double last_ds = substep_ds[j] > 0.0 ? substep_ds[j] : (i > 0 ? steps_[i - 1].ds : 0.0);
-      substep_ds[j] = 0.0;
       if (level == 0 && !visit_all) continue;
       NodeSolution o = nodeOf(*nodes, j);
       const double w = strip_constants.weight[j];
@@ -411,6 +412,7 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
         const int k_sub = 1 << level;
         refinement_budget -= k_sub;
         const double dss = sp.ds / k_sub;
+        const double last_ds = refined_step[j] == i - 1 ? substep_ds[j] : (i > 0 ? steps_[i - 1].ds : 0.0);
         const double w_in = last_ds > 0.0 ? dss / last_ds : 0.0;
         const NodeSolution at_i = nodeOf(*prev_nodes, j), coarse_o = o;
         const double stick_at_i = at_i.s <= v_m ? 1.0 : 0.0, exact_at_i = at_i.stuck ? 1.0 : 0.0;
@@ -456,6 +458,7 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
         wear_i += w * (o.wt - coarse_o.wt);
         stick_i += w * (st1 - (coarse_o.s <= v_m ? 1.0 : 0.0));
         exact_i += w * (ex1 - (coarse_o.stuck ? 1.0 : 0.0));
+        refined_step[j] = i;
         substep_ds[j] = dss;
         ++n_refined;
       }

@@ -33,15 +33,18 @@
 /// trapezoid weights, BDF2 coefficients, pressure shapes and their sat(p) factors, since
 /// (p/p_ref)^-q separates into an x and a y factor) is precomputed at construction; per evaluation
 /// the marcher sweeps x once with all strips side by side, so per-step quantities are computed once.
-/// Each x step runs phase by phase over all strips (history terms, trial stress and stick test, slide
-/// roots, update, wear), and the slide roots of all strips are iterated together: one root is a chain
-/// of exp and division that the processor cannot shorten, but the chains of different strips are
-/// independent and overlap (1.5x faster than strip after strip, identical results).
+/// Each x step runs the strips in SIMD packs (src/core/brush_march.h: four strips per AVX2 register
+/// where the CPU has AVX2 and FMA, else two per SSE2 register on x86-64, else one strip at a time):
+/// the per-strip state is kept in structure-of-arrays form, every phase (history terms, trial stress
+/// and stick test, slide root, update, wear law) runs on all lanes with masks instead of branches, the
+/// slide roots of a pack iterate until all its lanes are done, and exp/log are glibc libmvec's vector
+/// versions. 1.7x faster on the rig grid than the strips side by side in scalar code; the results agree
+/// with one strip at a time to ~1e-14 relative (test SimdPacksAgreeWithOneStripAtATime).
 /// The slide root starts from the previous node's root (warm start along the element path) or from the
 /// closed-form creep root mu(|v_s|) p = |trial stress|; the wear law (Eq 19) reuses ln|v_s| and
 /// |tau| = mu p (exact at the root), so it costs one exp and one log. Without turn slip and with
 /// y_e = 0 the problem is mirror-symmetric in y and only half the strips are marched.
-/// Memory: the per-strip state lives on the stack (sized for GridSpec::kMaxStrips strips: about 180 KB of
+/// Memory: the per-strip state lives on the stack (sized for GridSpec::kMaxStrips strips: about 135 KB of
 /// stack per call); evaluate()
 /// allocates nothing, is const and thread-safe; its work is bounded by (n_x_steps * n_strips +
 /// refinement.node_budget) * turn_slip_iterations * (BrushOptions::max_root_iterations + 1) friction
