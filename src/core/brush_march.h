@@ -230,6 +230,14 @@ inline void advancePack(const StepArgs& args, int j, int valid, const PathState&
   const V uhx = a1 * e_ux + a2 * T::load(from.ux_p + j), uhy = a1 * e_uy + a2 * T::load(from.uy_p + j);
   const V bx = m_over_g * uhx - V(k.kx) * dhx;  // history terms of the implicit update [Pa]
   const V by = m_over_g * uhy - V(k.ky) * dhy;
+  // The current node becomes the previous one; stored now (all loads of `from` are done) so that these
+  // values need not be kept across the root iteration's calls, which clobber every vector register.
+  T::store(to->dlx_p + j, e_dlx);
+  T::store(to->dly_p + j, e_dly);
+  T::store(to->ux_p + j, e_ux);
+  T::store(to->uy_p + j, e_uy);
+  T::store(to->sliding_p + j, select(e_sliding, V(1.0), V(0.0)));
+  T::store(to->z_p + j, e_z);
   V ndx = dhx + g * e_ux;  // deflection at the new node: predictor for the Omega delta coupling [m]
   V ndy = dhy + g * e_uy;
   V tx(0.0), ty(0.0), vsx(0.0), vsy(0.0), s(0.0), mup(0.0), s_dmup(0.0), z(0.0), nux(0.0), nuy(0.0);
@@ -364,16 +372,10 @@ inline void advancePack(const StepArgs& args, int j, int valid, const PathState&
   }
 
   // Element state at the new node.
-  T::store(to->dlx_p + j, e_dlx);
-  T::store(to->dly_p + j, e_dly);
-  T::store(to->ux_p + j, e_ux);
-  T::store(to->uy_p + j, e_uy);
   T::store(to->dlx + j, ndx);
   T::store(to->dly + j, ndy);
   T::store(to->ux + j, nux);
   T::store(to->uy + j, nuy);
-  T::store(to->sliding_p + j, select(e_sliding, V(1.0), V(0.0)));
-  T::store(to->z_p + j, e_z);
   T::store(to->sliding + j, select(s > V(0.0), V(1.0), V(0.0)));
   T::store(to->z + j, z);
 
