@@ -108,13 +108,13 @@ struct NodeLanes {
   alignas(64) double refine_rate[kCapacity];
 };
 
-/// Weighted sums over strips of the node solutions of one x step, per lane (added up by the caller).
-struct NodeSums {
-  double tx[kMaxLanes], ty[kMaxLanes];  ///< sum of w tau [Pa]
-  double y_tx[kMaxLanes];               ///< sum of w y_mz tau_x [Pa m]
-  double wt[kMaxLanes];                 ///< sum of w wear per time and area [kg/(s m^2)]
-  double stick[kMaxLanes];              ///< sum of w (|v_s| <= v_m)
-  double exact[kMaxLanes];              ///< sum of w (v_s = 0)
+/// Quadrature sums over the nodes of the evaluation (Eq 20), per lane (added up by the caller at the end).
+struct PatchSums {
+  double fx[kMaxLanes], fy[kMaxLanes];  ///< sum of dA tau [N]
+  double mz[kMaxLanes];                 ///< sum of dA (x tau_y - y_mz tau_x) [N m]
+  double wear[kMaxLanes];               ///< sum of dA wear per time and area [kg/s]
+  double stick[kMaxLanes];              ///< sum of dA (|v_s| <= v_m) [m^2]
+  double exact[kMaxLanes];              ///< sum of dA (v_s = 0) [m^2]
 };
 
 /// The node an x step goes to.
@@ -138,7 +138,8 @@ struct StepArgs {
   const StepTerms* uniform;
   const StepTermLanes* per_strip;
   Node node;
-  NodeSums* sums;  ///< where to add the weighted node solutions, or nullptr
+  double node_area;  ///< trapezoid weight of the node in x times a b [m^2] (dA = node_area x strip weight)
+  PatchSums* sums;   ///< where to add the node solutions, or nullptr
 };
 
 /// Advances strips [first, first + count) by one x step from the path state `from` to `to` (may be the
@@ -401,16 +402,17 @@ inline void advancePack(const StepArgs& args, int j, int valid, const PathState&
     }
   }
   if (args.sums) {
-    NodeSums& sum = *args.sums;
-    const V weight = T::load(sc.weight + j);
+    PatchSums& sum = *args.sums;
+    const V area = V(args.node_area) * T::load(sc.weight + j);  // dA [m^2]
     const V zero(0.0);
-    const V wtx = select(real, weight * tx, zero);  // lanes past the last strip add nothing
-    T::store(sum.tx, T::load(sum.tx) + wtx);
-    T::store(sum.ty, T::load(sum.ty) + select(real, weight * ty, zero));
-    T::store(sum.y_tx, T::load(sum.y_tx) + T::load(sc.y_mz + j) * wtx);
-    T::store(sum.wt, T::load(sum.wt) + select(real, weight * wt, zero));
-    T::store(sum.stick, T::load(sum.stick) + select(real & (s <= V(k.v_m)), weight, zero));
-    T::store(sum.exact, T::load(sum.exact) + select(real & stuck, weight, zero));
+    // Lanes past the last strip add nothing.
+    const V force_x = select(real, area * tx, zero), force_y = select(real, area * ty, zero);
+    T::store(sum.fx, T::load(sum.fx) + force_x);
+    T::store(sum.fy, T::load(sum.fy) + force_y);
+    T::store(sum.mz, T::load(sum.mz) + (V(node.x) * force_y - T::load(sc.y_mz + j) * force_x));
+    T::store(sum.wear, T::load(sum.wear) + select(real, area * wt, zero));
+    T::store(sum.stick, T::load(sum.stick) + select(real & (s <= V(k.v_m)), area, zero));
+    T::store(sum.exact, T::load(sum.exact) + select(real & stuck, area, zero));
   }
   T::store(out->refine_rate + j, refine_rate);
   T::store(out->p + j, p);

@@ -264,9 +264,9 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
   int refined_step[GridSpec::kMaxStrips];
   double substep_ds[GridSpec::kMaxStrips];
   int n_back = 0;
-  // Per x step: step terms of strips coming back from substeps, and the weighted sums of the node solutions.
+  // Per x step: step terms of strips coming back from substeps. The quadrature sums of the packs.
   march::StepTermLanes back;
-  march::NodeSums sums;
+  march::PatchSums sums{};
   for (int j = 0; j < n_padded; ++j) {
     const bool active = j < n_active;
     const double mirror_factor = (mirror && 2 * j + 1 != ny) ? 2.0 : 1.0;  // a mirrored pair counts twice
@@ -373,20 +373,12 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
         }
       }
     }
-    sums = march::NodeSums{};
-    const march::StepArgs args{&constants, &strip_constants, &coarse, n_back > 0 ? &back : nullptr, {x, px, sat_x},
-                               &sums};
+    const march::StepArgs args{&constants, &strip_constants, &coarse, n_back > 0 ? &back : nullptr,
+                               {x, px, sat_x}, wxa, &sums};
     advance_(args, 0, n_active, *el, next, nodes, &root_counts);
-    // Sums over strips of the node values (weight wx) and of the corrections of refined steps (x/a units).
+    // The packs added the coarse node solutions to `sums`. Sums over the strips redone in substeps of the
+    // change of the node value (weight wx) and of the corrections of their trapezoids (x/a units).
     double fx_i = 0.0, fy_i = 0.0, mz_y = 0.0, wear_i = 0.0, stick_i = 0.0, exact_i = 0.0;
-    for (int lane = 0; lane < march::kMaxLanes; ++lane) {
-      fx_i += sums.tx[lane];
-      fy_i += sums.ty[lane];
-      mz_y += sums.y_tx[lane];
-      wear_i += sums.wt[lane];
-      stick_i += sums.stick[lane];
-      exact_i += sums.exact[lane];
-    }
     double cfx = 0.0, cfy = 0.0, cmz = 0.0, cwear = 0.0, cstick = 0.0, cexact = 0.0;
     // Strips that need more than their node solution: steps redone in substeps, the edge wear, the fields.
     const bool visit_all = edge_step || fields != nullptr;
@@ -428,7 +420,7 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
             x_k = a * s_k;
           }
           const march::StepArgs substep{&constants, &strip_constants, k == 1 ? &first : &inner, nullptr,
-                                        {x_k, px_k, sat_k}, nullptr};
+                                        {x_k, px_k, sat_k}, 0.0, nullptr};
           march::advanceScalar(substep, j, 1, k == 1 ? *el : *next, next, nodes, &root_counts);
           o = nodeOf(*nodes, j);
           const double st1 = o.s <= v_m ? 1.0 : 0.0, ex1 = o.stuck ? 1.0 : 0.0;
@@ -479,6 +471,14 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
     exact_area += exact_i * wxa + cexact * ab;
   }
 
+  for (int lane = 0; lane < march::kMaxLanes; ++lane) {
+    fx += sums.fx[lane];
+    fy += sums.fy[lane];
+    mz += sums.mz[lane];
+    wear_t += sums.wear[lane];
+    stick_area += sums.stick[lane];
+    exact_area += sums.exact[lane];
+  }
   const double area = 4.0 * a * b;  // sum of the weights equals the area exactly
   result->fx_n = fx;
   result->fy_n = fy;
