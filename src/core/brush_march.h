@@ -3,7 +3,8 @@
 /// Internal to BrushWearModel::evaluate (src/core/brush_wear_model.cpp): the per-strip work of one
 /// implicit x step of the marcher (history terms, trial stress and stick test, slide root, update,
 /// wear law Eq 19), written once for a lane type V: `double` (one strip) or a SIMD pack of
-/// neighbouring strips (brush_march_avx2.cpp). The physics is documented in brush_wear_model.h.
+/// neighbouring strips (brush_march_avx2.cpp: 4 per AVX2 register, brush_march_sse2.cpp: 2 per SSE2
+/// register). The physics is documented in brush_wear_model.h.
 ///
 /// Why packs: per node the work is a short chain of exp, log and divisions per strip (the slide root
 /// is a Newton iteration in ln|v_s|); the strips of one x step are independent, so W strips go through

@@ -97,7 +97,10 @@ Bdf2 bdf2Coefficients(double w) {
 }  // namespace
 
 BrushWearModel::BrushWearModel(const TireParams& params, const BrushOptions& options)
-    : params_(params), options_(options), friction_(params.friction), advance_(options.use_simd ? march::fastestAdvance() : march::advanceScalar) {
+    : params_(params),
+      options_(options),
+      friction_(params.friction),
+      advance_(options.use_simd ? march::fastestAdvance() : march::advanceScalar) {
   std::string error;
   if (!params.validate(&error)) throw std::invalid_argument("invalid tire parameters: " + error);
   if (!options.validate(&error)) throw std::invalid_argument("invalid brush options: " + error);
