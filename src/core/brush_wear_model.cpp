@@ -1,7 +1,6 @@
 #include "tread_wear/core/brush_wear_model.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
