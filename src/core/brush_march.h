@@ -357,9 +357,13 @@ inline void advancePack(const StepArgs& args, int j, int valid, const PathState&
       const V gx = dx * root_s + root_mup, gy = dy * root_s + root_mup;
       const V inv = V(1.0) / select(sliding, gx * gy, V(1.0));
       const V igx = gy * inv, igy = gx * inv;
-      const V inv_tt = V(1.0) / select(creeping, vsqrt(t2), V(1.0));
-      tx = select(stuck, ttx, select(sliding, root_mup * ttx * igx, tau_static * ttx * inv_tt));
-      ty = select(stuck, tty, select(sliding, root_mup * tty * igy, tau_static * tty * inv_tt));
+      tx = select(stuck, ttx, root_mup * ttx * igx);
+      ty = select(stuck, tty, root_mup * tty * igy);
+      if (any(creeping)) {
+        const V static_over_tt = tau_static / select(creeping, vsqrt(t2), V(1.0));
+        tx = select(creeping, static_over_tt * ttx, tx);
+        ty = select(creeping, static_over_tt * tty, ty);
+      }
       vsx = select(sliding, -ttx * root_s * igx, V(0.0));
       vsy = select(sliding, -tty * root_s * igy, V(0.0));
     }
@@ -394,12 +398,16 @@ inline void advancePack(const StepArgs& args, int j, int valid, const PathState&
     const M fast = real & (s > V(k.v_m));
     if (any(fast)) {
       const V s_fast = select(fast, s, V(1.0));
-      const V nx2 = vsx * vsx / (s_fast * s_fast), ny2 = V(1.0) - nx2;  // squared slip direction
+      const V inv_s2 = V(1.0) / (s_fast * s_fast);
+      const V nx2 = vsx * vsx * inv_s2, ny2 = V(1.0) - nx2;  // squared slip direction
       const V k_dir = V(k.kx) * nx2 + V(k.ky) * ny2;
-      const V c_eff = V(k.cx) * nx2 + V(k.cy) * ny2 + s_dmup / s_fast;
+      const V c_eff = V(k.cx) * nx2 + V(k.cy) * ny2 + s_dmup * s_fast * inv_s2;
       const V c_crit = V(2.0) * vsqrt(V(k.m) * k_dir);
       const M weakly_damped = fast & !(c_eff >= V(k.damping_ratio) * c_crit);
-      refine_rate = select(weakly_damped, vmax(vsqrt(k_dir / V(k.m)), -c_eff / V(k.m)), refine_rate);
+      if (any(weakly_damped)) {
+        const V inv_m(1.0 / k.m);
+        refine_rate = select(weakly_damped, vmax(vsqrt(k_dir * inv_m), -c_eff * inv_m), refine_rate);
+      }
     }
   }
   if (args.sums) {
