@@ -8,14 +8,14 @@ void advanceScalar(const StepArgs& args, int first, int count, const PathState& 
   for (int j = first; j < first + count; ++j) advancePack<double>(args, j, 1, from, to, out, counts);
 }
 
-AdvanceFunction fastestAdvance() {
+AdvanceFunction fastestAdvance(int max_lanes) {
 #ifdef TREAD_WEAR_SIMD_MARCHER
   __builtin_cpu_init();
-  if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) return advanceAvx2;
-  return advanceSse2;
-#else
-  return advanceScalar;
+  if (max_lanes >= 4 && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) return advanceAvx2;
+  if (max_lanes >= 2) return advanceSse2;
 #endif
+  (void)max_lanes;
+  return advanceScalar;
 }
 
 }  // namespace march

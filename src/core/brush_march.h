@@ -161,8 +161,8 @@ void advanceAvx2(const StepArgs& args, int first, int count, const PathState& fr
                  RootCounts* counts);
 #endif
 
-/// The fastest advance this CPU runs (decided once).
-AdvanceFunction fastestAdvance();
+/// The fastest advance this CPU and build run with at most `max_lanes` strips per pack (decided once).
+AdvanceFunction fastestAdvance(int max_lanes);
 
 namespace {
 

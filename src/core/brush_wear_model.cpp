@@ -40,6 +40,8 @@ bool BrushOptions::validate(std::string* error) const {
   if (!refinement.validate(error)) return false;
   if (!(root_tolerance > 0.0 && root_tolerance <= 0.1))
     return failValidation(error, "root_tolerance", root_tolerance, "in (0, 0.1]");
+  if (max_simd_lanes != 1 && max_simd_lanes != 2 && max_simd_lanes != 4)
+    return failValidation(error, "max_simd_lanes", max_simd_lanes, "1, 2 or 4");
   return true;
 }
 
@@ -99,7 +101,7 @@ BrushWearModel::BrushWearModel(const TireParams& params, const BrushOptions& opt
     : params_(params),
       options_(options),
       friction_(params.friction),
-      advance_(options.use_simd ? march::fastestAdvance() : march::advanceScalar) {
+      advance_(march::fastestAdvance(options.max_simd_lanes)) {
   std::string error;
   if (!params.validate(&error)) throw std::invalid_argument("invalid tire parameters: " + error);
   if (!options.validate(&error)) throw std::invalid_argument("invalid brush options: " + error);

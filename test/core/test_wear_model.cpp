@@ -176,38 +176,40 @@ TEST(WearModelInput, RandomPointsGiveFiniteFrictionBoundedResults) {
   }
 }
 
-// The marcher's SIMD packs of strips (where the CPU has them) and one strip at a time are the same
-// model: over straight and turn-slip points, with and without substeps, their results agree to the
-// rounding of vector exp/log and to where the root tolerance stops an iteration.
+// The marcher's SIMD packs of strips (the widest the CPU has, and SSE2 pairs) and one strip at a time
+// are the same model: over straight and turn-slip points, with and without substeps, their results agree
+// to the rounding of vector exp/log and to where the root tolerance stops an iteration.
 TEST(BrushMarcher, SimdPacksAgreeWithOneStripAtATime) {
   const TireParams params;
   double worst_force = 0.0, worst_wear = 0.0, worst_fraction = 0.0;
-  for (Preset preset : {Preset::kFast, Preset::kStandard}) {
-    BrushOptions packed = presetOptions(preset), single = packed;
-    single.use_simd = false;
-    const BrushWearModel m_packed(params, packed), m_single(params, single);
-    for (double alpha_deg : {0.0, 1.0, 6.0, 15.0})
-      for (double kappa : {-0.2, 0.0, 0.05})
-        for (double speed : {0.5, 5.0, 40.0})
-          for (double curvature : {0.0, 0.2, 1.0 / 0.060}) {
-            OperatingPoint op;
-            op.speed_mps = speed;
-            op.slip_angle_rad = alpha_deg * units::kDegree;
-            op.slip_ratio = kappa;
-            op.load_n = 100.0;
-            op.path_curvature_per_m = curvature;
-            WearResult p, s;
-            m_packed.evaluate(op, &p);
-            m_single.evaluate(op, &s);
-            const double force_scale = std::max({std::hypot(s.fx_n, s.fy_n), 0.005 * op.load_n});
-            worst_force = std::max({worst_force, std::fabs(p.fx_n - s.fx_n) / force_scale,
-                                    std::fabs(p.fy_n - s.fy_n) / force_scale,
-                                    std::fabs(p.mz_nm - s.mz_nm) / (force_scale * p.half_length_m)});
-            worst_wear = std::max(worst_wear, std::fabs(p.wear_rate_kg_per_m / s.wear_rate_kg_per_m - 1.0));
-            worst_fraction = std::max({worst_fraction, std::fabs(p.stick_fraction - s.stick_fraction),
-                                       std::fabs(p.exact_stick_fraction - s.exact_stick_fraction)});
-          }
-  }
+  for (Preset preset : {Preset::kFast, Preset::kStandard})
+    for (int lanes : {4, 2}) {
+      BrushOptions packed = presetOptions(preset), single = packed;
+      packed.max_simd_lanes = lanes;
+      single.max_simd_lanes = 1;
+      const BrushWearModel m_packed(params, packed), m_single(params, single);
+      for (double alpha_deg : {0.0, 1.0, 6.0, 15.0})
+        for (double kappa : {-0.2, 0.0, 0.05})
+          for (double speed : {0.5, 5.0, 40.0})
+            for (double curvature : {0.0, 0.2, 1.0 / 0.060}) {
+              OperatingPoint op;
+              op.speed_mps = speed;
+              op.slip_angle_rad = alpha_deg * units::kDegree;
+              op.slip_ratio = kappa;
+              op.load_n = 100.0;
+              op.path_curvature_per_m = curvature;
+              WearResult p, s;
+              m_packed.evaluate(op, &p);
+              m_single.evaluate(op, &s);
+              const double force_scale = std::max({std::hypot(s.fx_n, s.fy_n), 0.005 * op.load_n});
+              worst_force = std::max({worst_force, std::fabs(p.fx_n - s.fx_n) / force_scale,
+                                      std::fabs(p.fy_n - s.fy_n) / force_scale,
+                                      std::fabs(p.mz_nm - s.mz_nm) / (force_scale * p.half_length_m)});
+              worst_wear = std::max(worst_wear, std::fabs(p.wear_rate_kg_per_m / s.wear_rate_kg_per_m - 1.0));
+              worst_fraction = std::max({worst_fraction, std::fabs(p.stick_fraction - s.stick_fraction),
+                                         std::fabs(p.exact_stick_fraction - s.exact_stick_fraction)});
+            }
+    }
   std::printf("worst differences: force %.3g, wear %.3g, fraction %.3g\n", worst_force, worst_wear, worst_fraction);
   // Measured on AVX2 (glibc 2.36 libmvec): 4e-14 / 3e-15 / 2e-15; the bound leaves room for other libmvec builds.
   EXPECT_LT(worst_force, 1e-6);
@@ -286,6 +288,9 @@ TEST(BrushOptionsValidation, RefinementAndShoulderPanelsNameTheField) {
   o = BrushOptions();
   o.refinement.damping_ratio = -0.1;
   EXPECT_NE(message(o).find("refinement.damping_ratio"), std::string::npos);
+  o = BrushOptions();
+  o.max_simd_lanes = 3;  // packs are 1, 2 or 4 strips wide
+  EXPECT_NE(message(o).find("max_simd_lanes"), std::string::npos);
   EXPECT_THROW(BrushWearModel(TireParams(), o), std::invalid_argument);
   EXPECT_TRUE(presetOptions(Preset::kStandard).validate(nullptr));
 }

@@ -125,9 +125,9 @@ struct BrushOptions {
                                         ///< the last step is applied, so the error is O(tolerance^2)
   bool use_symmetry = true;             ///< march half the strips when straight (Omega = 0) and y_e = 0
   RefinementOptions refinement{};       ///< local substeps for stick-slip bursts (off by default)
-  bool use_simd = true;                 ///< march packs of strips in SIMD lanes where the CPU has them (same
-                                        ///< model; results differ from one strip at a time by rounding and
-                                        ///< by where the root tolerance stops an iteration)
+  int max_simd_lanes = 4;               ///< widest pack of strips in SIMD lanes: 4 (AVX2 where the CPU has it,
+                                        ///< else 2), 2 (SSE2), 1 (one strip at a time). Same model; results
+                                        ///< differ by rounding and by where the root tolerance stops an iteration
 
   bool validate(std::string* error) const;
 };
