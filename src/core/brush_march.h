@@ -293,13 +293,18 @@ inline void advancePack(const StepArgs& args, int j, int valid, const PathState&
     }
     zi = select(solving, zi, V(0.0));  // lanes not solving evaluate a harmless residual
 
+    // mu p and |v_s| d(mu p)/d|v_s| at z = ln|v_s| (Eq 10 times sat(p) p).
+    auto friction = [&](const V& zv, V* mup_at, V* s_dmup_at) {
+      const V l = zv - V(k.ln_vm);
+      const V e = V(k.dmu) * vexp(V(-k.savkoor_c) * l * l);
+      *mup_at = sat_p * (V(k.mu_0) + e);
+      *s_dmup_at = sat_p * e * (V(-2.0 * k.savkoor_c) * l);
+    };
     while (any(solving)) {
-      // Residual F and dF/dz at zi, with mu p and |v_s| d(mu p)/d|v_s| (Eq 10 times sat(p) p).
+      // Residual F and dF/dz at zi.
       const V rs = vexp(zi);
-      const V l = zi - V(k.ln_vm);
-      const V ef = V(k.dmu) * vexp(V(-k.savkoor_c) * l * l);
-      const V rmup = sat_p * (V(k.mu_0) + ef);
-      const V rs_dmup = sat_p * ef * (V(-2.0 * k.savkoor_c) * l);
+      V rmup, rs_dmup;
+      friction(zi, &rmup, &rs_dmup);
       const V gx = dx * rs + rmup, gy = dy * rs + rmup;
       const V inv = V(1.0) / (gx * gy);  // one division for both reciprocals
       const V igx = gy * inv, igy = gx * inv;
@@ -335,12 +340,12 @@ inline void advancePack(const StepArgs& args, int j, int valid, const PathState&
       const M exhausted = solving & ((z_hi - z_lo < V(k.tol)) | (iterations == V(k.max_iterations)));
       if (any(exhausted)) {
         const V ze = select(exhausted, z_new, V(0.0));
-        const V le = ze - V(k.ln_vm);
-        const V ee = V(k.dmu) * vexp(V(-k.savkoor_c) * le * le);
+        V mup_e, s_dmup_e;
+        friction(ze, &mup_e, &s_dmup_e);
         root_z = select(exhausted, ze, root_z);
         root_s = select(exhausted, vexp(ze), root_s);
-        root_mup = select(exhausted, sat_p * (V(k.mu_0) + ee), root_mup);
-        root_s_dmup = select(exhausted, sat_p * ee * (V(-2.0 * k.savkoor_c) * le), root_s_dmup);
+        root_mup = select(exhausted, mup_e, root_mup);
+        root_s_dmup = select(exhausted, s_dmup_e, root_s_dmup);
         solving = solving & !exhausted;
       }
       zi = select(solving, z_new, zi);
