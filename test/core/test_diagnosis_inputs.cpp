@@ -96,22 +96,18 @@ TEST(DiagnosisInputs, CliDataErrors) {
   const CliResult missing = diagnoseCli({"--params", kParams, "--runs", "/nonexistent/runs.csv", "--report", "r"});
   EXPECT_EQ(missing.code, 1);
   EXPECT_NE(missing.err.find("/nonexistent/runs.csv"), std::string::npos) << missing.err;
-  const TempFile bad("# tread_wear run table v1\nspeed_mps,slip_angle_rad,load_n\n2,abc,75\n", ".csv");
-  const CliResult nonnum = diagnoseCli({"--params", kParams, "--runs", bad.path(), "--report", "r"});
-  EXPECT_EQ(nonnum.code, 1);
-  EXPECT_NE(nonnum.err.find("slip_angle_rad"), std::string::npos) << nonnum.err;
-  const TempFile few("# tread_wear run table v1\nspeed_mps,slip_angle_rad,load_n,side_force_n\n"
-                     "2,-0.17,75,50\n2,-0.17,75,51\n",
-                     ".csv");
-  const CliResult too_few = diagnoseCli({"--params", kParams, "--runs", few.path(), "--report", "r"});
-  EXPECT_EQ(too_few.code, 1);
-  EXPECT_NE(too_few.err.find("at least 4"), std::string::npos) << too_few.err;
-  const TempFile sae("# tread_wear run table v1\nspeed_mps,slip_angle_rad,load_n,side_force_n\n"
-                     "2,-0.17,75,-50\n2,-0.17,75,-51\n2,-0.17,75,-49\n2,-0.17,75,-52\n",
-                     ".csv");
-  const CliResult sae_axes = diagnoseCli({"--params", kParams, "--runs", sae.path(), "--report", "r"});
-  EXPECT_EQ(sae_axes.code, 1);
-  EXPECT_NE(sae_axes.err.find("axis convention"), std::string::npos) << sae_axes.err;
+  // A run table that reaches the diagnosis and is refused there: exit 1, the message names the problem.
+  auto expectDataError = [](const std::string& table, const std::string& expected) {
+    const TempFile runs("# tread_wear run table v1\n" + table, ".csv");
+    const CliResult r = diagnoseCli({"--params", kParams, "--runs", runs.path(), "--report", "r"});
+    EXPECT_EQ(r.code, 1) << table;
+    EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
+  };
+  expectDataError("speed_mps,slip_angle_rad,load_n\n2,abc,75\n", "slip_angle_rad");
+  expectDataError("speed_mps,slip_angle_rad,load_n,side_force_n\n2,-0.17,75,50\n2,-0.17,75,51\n", "at least 4");
+  expectDataError("speed_mps,slip_angle_rad,load_n,side_force_n\n"
+                  "2,-0.17,75,-50\n2,-0.17,75,-51\n2,-0.17,75,-49\n2,-0.17,75,-52\n",
+                  "axis convention");
   const CliResult bad_bag = diagnoseCli({"--params", kParams, "--bag", "x.bag", "--report", "r"},
                                         [](const std::string& p) -> RunTable { throw std::runtime_error(p + ": not a bag"); });
   EXPECT_EQ(bad_bag.code, 1);
