@@ -1,6 +1,6 @@
 /// Accuracy table of the wear-model presets against a fine reference (docs/performance.md).
 ///   tread_wear_accuracy [--reference marcher|cvode] [--road-params FILE] [--coarse] [--time] [--points FILE.csv]
-///                       [--refine LEVEL BUDGET RESOLUTION DAMPING_RATIO]
+///                       [--refine LEVEL BUDGET RESOLUTION DAMPING_RATIO] [--entry PERIODS GRADING]
 ///                       [--grid NX NY GRADING sine|gauss|panels PASSES TOL]...
 /// Prints, for each preset (and each --grid candidate), the maximum error over the Table 3 rig grid
 /// (Grosch wheel, both orientations) and the road grid, how many conditions exceed the issue-4 bounds
@@ -8,7 +8,8 @@
 /// the marcher's 'reference' preset (default) or ReferenceBrushSolver (CVODE, default options); where
 /// the CVODE solver throws, that condition falls back to the marcher reference and is counted.
 /// --points writes every condition's errors (fractions) per candidate and grid to a CSV.
-/// --refine sets BrushOptions::refinement of the --grid candidates that follow it (default: off).
+/// --refine sets BrushOptions::refinement of the --grid candidates that follow it (default: off), --entry
+/// their entry-transient grid (GridSpec::entry_transit_periods, entry_grading; default: off).
 /// --time adds, per candidate and grid, the median and p99 over the conditions of the thread CPU time
 /// of one evaluation (minimum of 5 repetitions per condition, which filters out most of the noise of a
 /// shared machine; tread_wear_bench gives the percentiles over all samples).
@@ -126,6 +127,7 @@ int main(int argc, char** argv) {
   bool time = false;
   std::string points_path;
   RefinementOptions refine;
+  double entry_periods = 0.0, entry_grading = 0.0;
   std::vector<Candidate> candidates;
   for (Preset p : {Preset::kFast, Preset::kStandard, Preset::kReference}) candidates.push_back({presetName(p), presetOptions(p)});
   for (int i = 1; i < argc; ++i) {
@@ -142,6 +144,10 @@ int main(int argc, char** argv) {
     } else if (!std::strcmp(argv[i], "--refine") && i + 4 < argc) {
       refine = {std::atoi(argv[i + 1]), std::atoi(argv[i + 2]), std::atof(argv[i + 3]), std::atof(argv[i + 4])};
       i += 4;
+    } else if (!std::strcmp(argv[i], "--entry") && i + 2 < argc) {
+      entry_periods = std::atof(argv[i + 1]);
+      entry_grading = std::atof(argv[i + 2]);
+      i += 2;
     } else if (!std::strcmp(argv[i], "--grid") && i + 6 < argc) {
       Candidate c;
       c.options.grid.n_x_steps = std::atoi(argv[i + 1]);
@@ -150,17 +156,20 @@ int main(int argc, char** argv) {
       c.options.grid.lateral_rule = !std::strcmp(argv[i + 4], "gauss")    ? LateralRule::kGaussLegendre
                                     : !std::strcmp(argv[i + 4], "panels") ? LateralRule::kGaussShoulderPanels
                                                                           : LateralRule::kSineMidpoint;
+      c.options.grid.entry_transit_periods = entry_periods;
+      c.options.grid.entry_grading = entry_grading;
       c.options.refinement = refine;
       c.options.turn_slip_iterations = std::atoi(argv[i + 5]);
       c.options.root_tolerance = std::atof(argv[i + 6]);
       c.name = std::string(argv[i + 1]) + "x" + argv[i + 2] + " g" + argv[i + 3] + " " + argv[i + 4] + " p" + argv[i + 5] +
-               " t" + argv[i + 6] + (refine.max_level > 0 ? " L" + std::to_string(refine.max_level) : "");
+               " t" + argv[i + 6] + (refine.max_level > 0 ? " L" + std::to_string(refine.max_level) : "") +
+               (entry_periods > 0.0 ? " e" + std::to_string(entry_grading).substr(0, 4) : "");
       candidates.push_back(c);
       i += 6;
     } else {
       std::fprintf(stderr,
                    "usage: %s [--reference marcher|cvode] [--road-params FILE] [--coarse] [--time] [--points FILE.csv] "
-                   "[--refine LEVEL BUDGET RESOLUTION DAMPING_RATIO] [--grid NX NY GRADING sine|gauss|panels PASSES TOL]...\n",
+                   "[--refine LEVEL BUDGET RESOLUTION DAMPING_RATIO] [--entry PERIODS GRADING] [--grid NX NY GRADING sine|gauss|panels PASSES TOL]...\n",
                    argv[0]);
       return 2;
     }

@@ -20,6 +20,10 @@ bool GridSpec::validate(std::string* error) const {
     return failValidation(error, "grid.n_strips", n_strips, "even and >= 6 with shoulder panels");
   if (!(edge_grading >= 0.0 && edge_grading < 1.0))
     return failValidation(error, "grid.edge_grading", edge_grading, "in [0, 1)");
+  if (!(entry_transit_periods >= 0.0) || !std::isfinite(entry_transit_periods))
+    return failValidation(error, "grid.entry_transit_periods", entry_transit_periods, "finite and >= 0");
+  if (!(entry_grading >= 0.0 && entry_grading < 1.0))
+    return failValidation(error, "grid.entry_grading", entry_grading, "in [0, 1)");
   return true;
 }
 
@@ -106,29 +110,9 @@ BrushWearModel::BrushWearModel(const TireParams& params, const BrushOptions& opt
   if (!params.validate(&error)) throw std::invalid_argument("invalid tire parameters: " + error);
   if (!options.validate(&error)) throw std::invalid_argument("invalid brush options: " + error);
 
-  const int n = options.grid.n_x_steps;
-  const double grading = options.grid.edge_grading;
-  s_.resize(n + 1);
-  for (int i = 0; i <= n; ++i) {
-    const double u = 1.0 - 2.0 * i / n;  // uniform, leading edge first
-    s_[i] = (1.0 - grading) * u + grading * std::sin(0.5 * units::kPi * u);
-  }
-  s_.front() = 1.0;
-  s_.back() = -1.0;
-  wx_.assign(n + 1, 0.0);
-  steps_.resize(n);
-  for (int i = 0; i < n; ++i) {
-    const double ds = s_[i] - s_[i + 1];
-    wx_[i] += 0.5 * ds;
-    wx_[i + 1] += 0.5 * ds;
-    // BDF1 on the first step, then variable-step BDF2 (w = h_i / h_{i-1} = ds_i / ds_{i-1}).
-    const double w = i > 0 ? ds / (s_[i - 1] - s_[i]) : 0.0;
-    const Bdf2 c = bdf2Coefficients(w);
-    steps_[i] = Step{ds, c.a1, c.a2, c.beta, i > 0 ? w : 1.0};
-  }
   gx_ = PressureShape(params.footprint.n_x, params.footprint.lambda_x, 0.0);
-  gx_even_.resize(n + 1);
-  for (int i = 0; i <= n; ++i) gx_even_[i] = gx_.even(s_[i]);
+  x_grid_ = makeXGrid(options.grid.edge_grading);
+  if (options.grid.entry_transit_periods > 0.0) entry_x_grid_ = makeXGrid(options.grid.entry_grading);
 
   const int ny = options.grid.n_strips;
   eta_.resize(ny);
@@ -158,6 +142,42 @@ BrushWearModel::BrushWearModel(const TireParams& params, const BrushOptions& opt
     y_symmetric_ = eta_[j] == -eta_[ny - 1 - j] && wy_[j] == wy_[ny - 1 - j] && gy_[j] == gy_[ny - 1 - j];
 }
 
+BrushWearModel::XGrid BrushWearModel::makeXGrid(double leading_grading) const {
+  const int n = options_.grid.n_x_steps;
+  XGrid g;
+  g.s.resize(n + 1);
+  for (int i = 0; i <= n; ++i) {
+    const double u = 1.0 - 2.0 * i / n;  // uniform, leading edge first
+    const double grading = u > 0.0 ? leading_grading : options_.grid.edge_grading;
+    g.s[i] = (1.0 - grading) * u + grading * std::sin(0.5 * units::kPi * u);
+  }
+  g.s.front() = 1.0;
+  g.s.back() = -1.0;
+  g.wx.assign(n + 1, 0.0);
+  g.steps.resize(n);
+  for (int i = 0; i < n; ++i) {
+    const double ds = g.s[i] - g.s[i + 1];
+    g.wx[i] += 0.5 * ds;
+    g.wx[i + 1] += 0.5 * ds;
+    // BDF1 on the first step, then variable-step BDF2 (w = h_i / h_{i-1} = ds_i / ds_{i-1}).
+    const double w = i > 0 ? ds / (g.s[i - 1] - g.s[i]) : 0.0;
+    const Bdf2 c = bdf2Coefficients(w);
+    g.steps[i] = Step{ds, c.a1, c.a2, c.beta, i > 0 ? w : 1.0};
+  }
+  g.gx_even.resize(n + 1);
+  for (int i = 0; i <= n; ++i) g.gx_even[i] = gx_.even(g.s[i]);
+  return g;
+}
+
+const BrushWearModel::XGrid& BrushWearModel::xGridFor(double load_n, double rolling_speed_mps) const {
+  const double periods = options_.grid.entry_transit_periods;
+  if (!(periods > 0.0)) return x_grid_;
+  const TreadParams& tp = params_.tread;
+  const double kx = tp.phi * (tp.k_y0_pa_per_m + tp.k_y1_pa_per_m_n * load_n);
+  const double period = 2.0 * units::kPi * std::sqrt(tp.m_kg_per_m2 / kx);  // [s]
+  const double transit = 2.0 * params_.footprint.halfLength(load_n) / rolling_speed_mps;  // [s]
+  return transit <= periods * period ? entry_x_grid_ : x_grid_;
+}
 
 namespace {
 
@@ -209,7 +229,8 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
                                      : -std::numeric_limits<double>::infinity();
   const double p_scale = Fz / (2.0 * a) / (2.0 * b);  // p = p_scale g_x g_y
   const double sat_floor = friction_.saturation(fr.p_0_pa);
-  const int n = static_cast<int>(s_.size()) - 1;
+  const XGrid& xg = xGridFor(Fz, Vr);
+  const int n = static_cast<int>(xg.s.size()) - 1;
   const int ny = static_cast<int>(eta_.size());
   // Mirror symmetry in y: v_r does not depend on y without turn slip, and g_y is even.
   const bool mirror = options_.use_symmetry && y_symmetric_ && Omega == 0.0;
@@ -292,7 +313,7 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
 
   double fx = 0.0, fy = 0.0, mz = 0.0, wear_t = 0.0, stick_area = 0.0, exact_area = 0.0;
   if (fields) {
-    for (int i = 0; i <= n; ++i) fields->x_m[i] = a * s_[i];
+    for (int i = 0; i <= n; ++i) fields->x_m[i] = a * xg.s[i];
     for (int j = 0; j < ny; ++j) fields->y_m[j] = b * eta_[j];
   }
 
@@ -335,7 +356,7 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
   };
 
   {  // Leading edge: p = 0, no friction; the element slips at u - v_r.
-    const double w0 = wx_[0] * a * b;
+    const double w0 = xg.wx[0] * a * b;
     for (int j = 0; j < n_active; ++j) {
       const double y = b * eta_[j];
       const double vsx = el->ux[j] - (vrx0 + Omega * y), vsy = el->uy[j] - (vry0 - Omega * a);
@@ -356,13 +377,13 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
   }
 
   for (int i = 0; i < n; ++i) {
-    const Step& sp = steps_[i];
+    const Step& sp = xg.steps[i];
     const march::StepTerms coarse = stepTerms(sp.ds, Bdf2{sp.a1, sp.a2, sp.beta}, sp.w);
     const double h = a * sp.ds / Vr;  // step duration [s]
-    const double x = a * s_[i + 1];
+    const double x = a * xg.s[i + 1];
     double sat_x;
-    const double px = pressureX(s_[i + 1], gx_even_[i + 1], &sat_x);
-    const double wxa = wx_[i + 1] * a * b;
+    const double px = pressureX(xg.s[i + 1], xg.gx_even[i + 1], &sat_x);
+    const double wxa = xg.wx[i + 1] * a * b;
     const bool edge_step = i == 0 || i == n - 1;
     // All strips advance to node i + 1 together; a step is then redone in substeps strip by strip.
     if (n_back > 0) {
@@ -408,16 +429,16 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
         const int k_sub = 1 << level;
         refinement_budget -= k_sub;
         const double dss = sp.ds / k_sub;
-        const double last_ds = refined_step[j] == i - 1 ? substep_ds[j] : (i > 0 ? steps_[i - 1].ds : 0.0);
+        const double last_ds = refined_step[j] == i - 1 ? substep_ds[j] : (i > 0 ? xg.steps[i - 1].ds : 0.0);
         const double w_in = last_ds > 0.0 ? dss / last_ds : 0.0;
         const NodeSolution at_i = nodeOf(*prev_nodes, j), coarse_o = o;
         const double stick_at_i = at_i.s <= v_m ? 1.0 : 0.0, exact_at_i = at_i.stuck ? 1.0 : 0.0;
-        double tx0 = at_i.tx, ty0 = at_i.ty, wt0 = at_i.wt, st0 = stick_at_i, ex0 = exact_at_i, x0 = a * s_[i];
+        double tx0 = at_i.tx, ty0 = at_i.ty, wt0 = at_i.wt, st0 = stick_at_i, ex0 = exact_at_i, x0 = a * xg.s[i];
         double ifx = 0.0, ify = 0.0, imz = 0.0, iw = 0.0, ist = 0.0, iex = 0.0;
         const march::StepTerms first = stepTerms(dss, bdf2Coefficients(w_in), w_in);
         const march::StepTerms inner = stepTerms(dss, bdf2Coefficients(1.0), 1.0);
         for (int k = 1; k <= k_sub; ++k) {
-          const double s_k = s_[i] - k * dss;  // substep node x/a
+          const double s_k = xg.s[i] - k * dss;  // substep node x/a
           double sat_k = sat_x, px_k = px, x_k = x;
           if (k < k_sub) {
             px_k = pressureX(s_k, gx_.even(s_k), &sat_k);
@@ -443,7 +464,7 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
         const double st1 = o.s <= v_m ? 1.0 : 0.0, ex1 = o.stuck ? 1.0 : 0.0;
         cfx += w * (ifx - hds * (at_i.tx + o.tx));
         cfy += w * (ify - hds * (at_i.ty + o.ty));
-        cmz += w * (imz - hds * (a * s_[i] * at_i.ty - y_mz * at_i.tx + x * o.ty - y_mz * o.tx));
+        cmz += w * (imz - hds * (a * xg.s[i] * at_i.ty - y_mz * at_i.tx + x * o.ty - y_mz * o.tx));
         cwear += w * (iw - hds * (at_i.wt + o.wt));
         cstick += w * (ist - hds * (stick_at_i + st1));
         cexact += w * (iex - hds * (exact_at_i + ex1));

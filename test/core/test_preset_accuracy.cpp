@@ -84,9 +84,10 @@ void checkPreset(Preset preset, const std::vector<Case>& cases, const Bounds& bo
 
 // Bounds: docs/performance.md, "Accuracy" (whole-grid maxima, rounded up). On the rig, standard meets
 // the issue 4 targets (F and Mz 1%, W_r 2%, fractions 0.02), so those are asserted; on the road grid
-// it does not meet them for Fy, Mz, W_r and the fractions, and the measured maxima are asserted.
+// it meets them for Fx and Fy (0.37% and 0.61% with the entry-transient grid) but not for Mz, W_r and
+// the fractions, and the measured maxima are asserted.
 TEST(PresetAccuracy, StandardOnTable3Rig) { checkPreset(Preset::kStandard, rigCases(), {0.01, 0.01, 0.02, 0.02}); }
-TEST(PresetAccuracy, StandardOnRoadGrid) { checkPreset(Preset::kStandard, roadCases(), {0.016, 0.07, 0.09, 0.035}); }
+TEST(PresetAccuracy, StandardOnRoadGrid) { checkPreset(Preset::kStandard, roadCases(), {0.007, 0.07, 0.09, 0.03}); }
 TEST(PresetAccuracy, FastOnTable3Rig) { checkPreset(Preset::kFast, rigCases(), {0.015, 0.04, 0.02, 0.02}); }
 TEST(PresetAccuracy, FastOnRoadGrid) { checkPreset(Preset::kFast, roadCases(), {0.04, 0.20, 0.20, 0.08}); }
 

@@ -289,10 +289,49 @@ TEST(BrushOptionsValidation, RefinementAndShoulderPanelsNameTheField) {
   o.refinement.damping_ratio = -0.1;
   EXPECT_NE(message(o).find("refinement.damping_ratio"), std::string::npos);
   o = BrushOptions();
+  o.grid.entry_transit_periods = -1.0;
+  EXPECT_NE(message(o).find("grid.entry_transit_periods"), std::string::npos);
+  o = BrushOptions();
+  o.grid.entry_grading = 1.0;  // the sine map degenerates at the edge
+  EXPECT_NE(message(o).find("grid.entry_grading"), std::string::npos);
+  o = BrushOptions();
   o.max_simd_lanes = 3;  // packs are 1, 2 or 4 strips wide
   EXPECT_NE(message(o).find("max_simd_lanes"), std::string::npos);
   EXPECT_THROW(BrushWearModel(TireParams(), o), std::invalid_argument);
   EXPECT_TRUE(presetOptions(Preset::kStandard).validate(nullptr));
+}
+
+// The entry-transient grid is used exactly where the element crosses the patch within
+// entry_transit_periods natural periods 2 pi sqrt(m / k_x), k_x = phi (k_y0 + k_y1 Fz) (Eq 13), with the
+// transit 2a/V_r from Eq 6; the switch speed is computed here from the parameters, independently of
+// the model. Just below it the model equals one without the entry grid, just above it one that always
+// uses it, and the two grids do differ there (else the check would be empty).
+TEST(BrushEntryGrid, SwitchesAtTheTransitOfTheGivenNumberOfNaturalPeriods) {
+  const TireParams params;
+  BrushOptions off = presetOptions(Preset::kStandard);
+  off.grid.entry_transit_periods = 0.0;
+  BrushOptions on = off, always = off;
+  on.grid.entry_transit_periods = 1.5;
+  on.grid.entry_grading = always.grid.entry_grading = 0.98;
+  always.grid.entry_transit_periods = 1e9;
+  const BrushWearModel model_off(params, off), model_on(params, on), model_always(params, always);
+
+  OperatingPoint op;
+  op.load_n = 100.0;
+  op.path_curvature_per_m = 0.2;  // pure turn slip: the entry transient carries Fy
+  const double kx = params.tread.phi * (params.tread.k_y0_pa_per_m + params.tread.k_y1_pa_per_m_n * op.load_n);
+  const double period_s = 2.0 * units::kPi * std::sqrt(params.tread.m_kg_per_m2 / kx);
+  const double switch_speed = 2.0 * params.footprint.halfLength(op.load_n) / (1.5 * period_s);  // V_r = V here
+  for (double factor : {0.99, 1.01}) {
+    op.speed_mps = factor * switch_speed;
+    WearResult r_off, r_on, r_always;
+    model_off.evaluate(op, &r_off);
+    model_on.evaluate(op, &r_on);
+    model_always.evaluate(op, &r_always);
+    EXPECT_NE(r_off.fy_n, r_always.fy_n) << factor;
+    EXPECT_EQ(r_on.fy_n, factor < 1.0 ? r_off.fy_n : r_always.fy_n) << factor;
+    EXPECT_EQ(r_on.wear_rate_kg_per_m, factor < 1.0 ? r_off.wear_rate_kg_per_m : r_always.wear_rate_kg_per_m) << factor;
+  }
 }
 
 TEST(WearModelPresets, NamesRoundTripAndUnknownIsRejected) {

@@ -87,6 +87,12 @@ struct GridSpec {
   int n_strips = 16;          ///< lateral strips [-], 1..kMaxStrips
   double edge_grading = 0.8;  ///< beta in x = a((1-beta) s + beta sin(pi s/2)): 0 uniform, -> 1 fine edges
   LateralRule lateral_rule = LateralRule::kSineMidpoint;
+  /// Entry-transient grid (0: off). When an element crosses the patch within this many of its natural
+  /// periods 2 pi sqrt(m/k_x) (2a/V_r short against the element dynamics: high speed), the patch
+  /// response is mostly the element's transient from its entry state at x = +a; the leading half of the
+  /// grid (x > 0) then uses entry_grading instead of edge_grading. Same node count, so same cost.
+  double entry_transit_periods = 0.0;  ///< [-], >= 0
+  double entry_grading = 0.0;          ///< beta of the leading half on the entry-transient grid [-], in [0, 1)
 
   bool validate(std::string* error) const;
 };
@@ -179,7 +185,7 @@ class BrushWearModel {
   /// @param[out] fields optional local fields, pre-sized with fields->resize(nodesX(), strips())
   void evaluate(const OperatingPoint& op, WearResult* result, PatchFields* fields = nullptr) const;
 
-  int nodesX() const { return static_cast<int>(s_.size()); }
+  int nodesX() const { return static_cast<int>(x_grid_.s.size()); }
   int strips() const { return static_cast<int>(eta_.size()); }
   const TireParams& params() const { return params_; }
   const BrushOptions& options() const { return options_; }
@@ -193,14 +199,23 @@ class BrushWearModel {
     double beta;   ///< BDF2 coefficient on the step (g = beta h) [-]
     double w;      ///< step ratio h_i / h_{i-1} [-] (1 on the first step)
   };
+  /// Grid-only quantities along x.
+  struct XGrid {
+    std::vector<double> s;        ///< mapped node coordinate x/a, from +1 to -1
+    std::vector<double> wx;       ///< trapezoid weight in x/a
+    std::vector<double> gx_even;  ///< even part of g_x at the nodes
+    std::vector<Step> steps;      ///< per-step BDF2 coefficients
+  };
+  XGrid makeXGrid(double leading_grading) const;
+  /// The x grid for this load and rolling speed (the entry-transient grid at short transits).
+  const XGrid& xGridFor(double load_n, double rolling_speed_mps) const;
+
   TireParams params_;
   BrushOptions options_;
   SavkoorFriction friction_;
-  std::vector<double> s_;          ///< mapped node coordinate x/a, from +1 to -1
-  std::vector<double> wx_;         ///< trapezoid weight in x/a
   PressureShape gx_;               ///< g_x without the centre shift (its even part)
-  std::vector<double> gx_even_;    ///< even part of g_x at the nodes
-  std::vector<Step> steps_;        ///< per-step BDF2 coefficients
+  XGrid x_grid_;                   ///< edge_grading at both edges
+  XGrid entry_x_grid_;             ///< entry_grading at the leading edge (when the entry grid is on)
   std::vector<double> eta_;        ///< strip centre y/b
   std::vector<double> wy_;         ///< strip weight in y/b (sums to 2)
   std::vector<double> gy_;         ///< g_y at the strip centres
