@@ -169,13 +169,12 @@ BrushWearModel::XGrid BrushWearModel::makeXGrid(double leading_grading) const {
   return g;
 }
 
-const BrushWearModel::XGrid& BrushWearModel::xGridFor(double load_n, double rolling_speed_mps) const {
+const BrushWearModel::XGrid& BrushWearModel::xGridFor(double half_length_m, double kx_pa_per_m,
+                                                      double rolling_speed_mps) const {
   const double periods = options_.grid.entry_transit_periods;
   if (!(periods > 0.0)) return x_grid_;
-  const TreadParams& tp = params_.tread;
-  const double kx = tp.phi * (tp.k_y0_pa_per_m + tp.k_y1_pa_per_m_n * load_n);
-  const double period = 2.0 * units::kPi * std::sqrt(tp.m_kg_per_m2 / kx);  // [s]
-  const double transit = 2.0 * params_.footprint.halfLength(load_n) / rolling_speed_mps;  // [s]
+  const double period = 2.0 * units::kPi * std::sqrt(params_.tread.m_kg_per_m2 / kx_pa_per_m);  // [s]
+  const double transit = 2.0 * half_length_m / rolling_speed_mps;                               // [s]
   return transit <= periods * period ? entry_x_grid_ : x_grid_;
 }
 
@@ -229,7 +228,7 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
                                      : -std::numeric_limits<double>::infinity();
   const double p_scale = Fz / (2.0 * a) / (2.0 * b);  // p = p_scale g_x g_y
   const double sat_floor = friction_.saturation(fr.p_0_pa);
-  const XGrid& xg = xGridFor(Fz, Vr);
+  const XGrid& xg = xGridFor(a, kx, Vr);
   const int n = static_cast<int>(xg.s.size()) - 1;
   const int ny = static_cast<int>(eta_.size());
   // Mirror symmetry in y: v_r does not depend on y without turn slip, and g_y is even.

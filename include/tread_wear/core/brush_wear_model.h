@@ -18,8 +18,8 @@
 ///
 /// Numerics (model spec, "Numerics"): variable-step BDF2 in time along the element path on an x grid
 /// graded towards both edges (towards the leading edge more strongly where the transit 2a/V_r is as
-/// short as the element's natural period, GridSpec::entry_transit_periods), and lateral strips clustered towards the shoulders (sine-mapped
-/// midpoints, Gauss-Legendre nodes, or Gauss-Legendre panels with two of three in the shoulder band of
+/// short as the element's natural period, GridSpec::entry_transit_periods), and lateral strips
+/// clustered towards the shoulders (sine-mapped midpoints, Gauss-Legendre nodes, or Gauss-Legendre panels with two of three in the shoulder band of
 /// the Eq 8 pressure). Each implicit step treats Coulomb friction as a set-valued law
 /// at v_s = 0 (return mapping): stick if the trial stress is inside the static disc, else one monotone
 /// scalar equation for |v_s| is solved by safeguarded Newton iteration in ln|v_s| (bounded iteration
@@ -208,8 +208,9 @@ class BrushWearModel {
     std::vector<Step> steps;      ///< per-step BDF2 coefficients
   };
   XGrid makeXGrid(double leading_grading) const;
-  /// The x grid for this load and rolling speed (the entry-transient grid at short transits).
-  const XGrid& xGridFor(double load_n, double rolling_speed_mps) const;
+  /// The x grid for this contact half length a, stiffness k_x (Eq 13) and rolling speed (the
+  /// entry-transient grid at short transits).
+  const XGrid& xGridFor(double half_length_m, double kx_pa_per_m, double rolling_speed_mps) const;
 
   TireParams params_;
   BrushOptions options_;
