@@ -19,8 +19,9 @@
 /// Numerics (model spec, "Numerics"): variable-step BDF2 in time along the element path on an x grid
 /// graded towards both edges (towards the leading edge more strongly where the transit 2a/V_r is as
 /// short as the element's natural period, GridSpec::entry_transit_periods), and lateral strips
-/// clustered towards the shoulders (sine-mapped midpoints, Gauss-Legendre nodes, or Gauss-Legendre panels with two of three in the shoulder band of
-/// the Eq 8 pressure). Each implicit step treats Coulomb friction as a set-valued law
+/// clustered towards the shoulders (sine-mapped midpoints, Gauss-Legendre nodes, or Gauss-Legendre
+/// panels with two of three in the shoulder band of the Eq 8 pressure). Each implicit step treats
+/// Coulomb friction as a set-valued law
 /// at v_s = 0 (return mapping): stick if the trial stress is inside the static disc, else one monotone
 /// scalar equation for |v_s| is solved by safeguarded Newton iteration in ln|v_s| (bounded iteration
 /// count). The turn-slip coupling Omega delta in v_r is resolved by fixed-point iteration.
