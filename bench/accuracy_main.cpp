@@ -14,7 +14,6 @@
 /// of one evaluation (minimum of 5 repetitions per condition, which filters out most of the noise of a
 /// shared machine; tread_wear_bench gives the percentiles over all samples).
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -26,6 +25,7 @@
 #include "bench_conditions.h"
 #include "tread_wear/core/params_io.h"
 #include "tread_wear/core/reference_solver.h"
+#include "tread_wear/core/units.h"
 #include "tread_wear/core/wear_model.h"
 
 using namespace tread_wear;
@@ -95,7 +95,7 @@ void report(const std::string& name, const std::string& set, const std::vector<b
       const OperatingPoint& op = conditions[k].op;
       std::fprintf(points, "\"%s\",%s,%s,%g,%g,%g,%g,%g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", name.c_str(), set.c_str(),
                    conditions[k].orientation == TurnSlipOrientation::kLiteral ? "literal" : "flipped", op.speed_mps,
-                   op.slip_angle_rad * 180.0 / M_PI, op.slip_ratio, op.path_curvature_per_m, op.load_n, e.fx, e.fy,
+                   op.slip_angle_rad / units::kDegree, op.slip_ratio, op.path_curvature_per_m, op.load_n, e.fx, e.fy,
                    e.mz, e.wear, e.stick, e.exact_stick);
     }
     const double f = std::max({e.fx, e.fy, e.mz}) / 0.01, w = e.wear / 0.02, a = std::max(e.stick, e.exact_stick) / 0.02;
