@@ -472,15 +472,19 @@ void ReferenceBrushSolver::evaluate(const OperatingPoint& op, WearResult* result
             throw std::runtime_error("ReferenceBrushSolver: more than max_events_per_strip mode switches on strip y = " +
                                      std::to_string(w.y_m) + " m");
           if (w.mode == Mode::kStick) {
-            enterSlideFromRest(w.local(t, yv), t);
+            // At free rolling the stick stress is exactly zero and the static disc shrinks to that point
+            // at the trailing edge: the root is a touch with no direction to slip in, not a switch.
+            const Workspace::Local l = w.local(t, yv);
+            if (std::hypot(l.tx, l.ty) > 0.0) {
+              enterSlideFromRest(l, t);
+              reinit(t);
+            }
           } else {
             setFast(false, t);
             enterStick(t);
+            reinit(t);
           }
-          reinit(t);
         }
-        recordFields(t);
-        continue;
       }
       recordFields(t);
       if (t >= bounds[seg] * (1.0 - 1e-15)) {

@@ -10,6 +10,7 @@
 #include "tread_wear/core/convergence_study.h"
 #include "tread_wear/core/friction.h"
 #include "tread_wear/core/reference_solver.h"
+#include "tread_wear/core/wear_model.h"
 
 namespace tread_wear {
 namespace {
@@ -51,6 +52,39 @@ TEST(ReferenceSolver, AgreesWithTheMarcherOnTable3Conditions) {
       EXPECT_LE(r.exact_stick_fraction, r.stick_fraction + 1e-12) << where;
       EXPECT_GT(r.fy_n, 0.0) << where;  // the rig's side force points to the track centre
       EXPECT_LE(reference.lastStats().max_events_strip, 20) << where;  // no chattering between modes
+    }
+  }
+}
+
+// Free rolling (no slip angle, slip ratio or path curvature): the road-sticking velocity is zero, so every
+// element sticks undeflected through the patch. Exact answer: no force or moment, all of the patch in
+// exact stick, and only the non-sliding wear term, W_r = w4 (2a)(2b) / V (Eq 19-20). The reference once
+// threw here (at the trailing edge the static disc shrinks to the zero stick stress); the marcher presets
+// must give the same limit.
+TEST(ReferenceSolver, FreeRollingGivesNoForceAndOnlyTheNonSlidingWear) {
+  const TireParams params;
+  ReferenceBrushSolver reference(params, ReferenceSolverOptions());
+  const BrushWearModel standard(params, presetOptions(Preset::kStandard));
+  for (double load_n : {50.0, 150.0}) {
+    for (double speed_mps : {0.5, 5.0, 40.0}) {
+      OperatingPoint op;
+      op.load_n = load_n;
+      op.speed_mps = speed_mps;
+      const double area_m2 = 4.0 * params.footprint.halfLength(load_n) * params.footprint.b_m;
+      const double expected_kg_per_m = params.wear.w4_kg_per_s_m2 * area_m2 / speed_mps;
+      WearResult r, m;
+      ASSERT_NO_THROW(reference.evaluate(op, &r)) << "Fz " << load_n << " V " << speed_mps;
+      standard.evaluate(op, &m);
+      for (const WearResult* result : {&r, &m}) {
+        const std::string where = std::string(result == &r ? "reference" : "standard") + " Fz " +
+                                  std::to_string(load_n) + " V " + std::to_string(speed_mps);
+        EXPECT_EQ(result->fx_n, 0.0) << where;
+        EXPECT_EQ(result->fy_n, 0.0) << where;
+        EXPECT_EQ(result->mz_nm, 0.0) << where;
+        EXPECT_NEAR(result->wear_rate_kg_per_m / expected_kg_per_m, 1.0, 1e-9) << where;
+        EXPECT_DOUBLE_EQ(result->exact_stick_fraction, 1.0) << where;
+        EXPECT_DOUBLE_EQ(result->stick_fraction, 1.0) << where;
+      }
     }
   }
 }
