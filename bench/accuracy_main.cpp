@@ -1,6 +1,7 @@
 /// Accuracy table of the wear-model presets against a fine reference (docs/performance.md).
 ///   tread_wear_accuracy [--reference marcher|cvode] [--road-params FILE] [--coarse] [--time] [--points FILE.csv]
 ///                       [--refine LEVEL BUDGET RESOLUTION DAMPING_RATIO] [--entry PERIODS GRADING]
+///                       [--entry-strips N]
 ///                       [--grid NX NY GRADING sine|gauss|panels PASSES TOL]...
 /// Prints, for each preset (and each --grid candidate), the maximum error over the Table 3 rig grid
 /// (Grosch wheel, both orientations) and the road grid, how many conditions exceed the issue-4 bounds
@@ -9,7 +10,8 @@
 /// the CVODE solver throws, that condition falls back to the marcher reference and is counted.
 /// --points writes every condition's errors (fractions) per candidate and grid to a CSV.
 /// --refine sets BrushOptions::refinement of the --grid candidates that follow it (default: off), --entry
-/// their entry-transient grid (GridSpec::entry_transit_periods, entry_grading; default: off).
+/// their entry-transient grid (GridSpec::entry_transit_periods, entry_grading; default: off), --entry-strips
+/// its lateral strips (GridSpec::entry_strips; default 0: NY).
 /// --time adds, per candidate and grid, the median and p99 over the conditions of the thread CPU time
 /// of one evaluation (minimum of 5 repetitions per condition, which filters out most of the noise of a
 /// shared machine; tread_wear_bench gives the percentiles over all samples).
@@ -128,6 +130,7 @@ int main(int argc, char** argv) {
   std::string points_path;
   RefinementOptions refine;
   double entry_periods = 0.0, entry_grading = 0.0;
+  int entry_strips = 0;
   std::vector<Candidate> candidates;
   for (Preset p : {Preset::kFast, Preset::kStandard, Preset::kReference}) candidates.push_back({presetName(p), presetOptions(p)});
   for (int i = 1; i < argc; ++i) {
@@ -148,6 +151,8 @@ int main(int argc, char** argv) {
       entry_periods = std::atof(argv[i + 1]);
       entry_grading = std::atof(argv[i + 2]);
       i += 2;
+    } else if (!std::strcmp(argv[i], "--entry-strips") && i + 1 < argc) {
+      entry_strips = std::atoi(argv[++i]);
     } else if (!std::strcmp(argv[i], "--grid") && i + 6 < argc) {
       Candidate c;
       c.options.grid.n_x_steps = std::atoi(argv[i + 1]);
@@ -158,19 +163,28 @@ int main(int argc, char** argv) {
                                                                           : LateralRule::kSineMidpoint;
       c.options.grid.entry_transit_periods = entry_periods;
       c.options.grid.entry_grading = entry_grading;
+      c.options.grid.entry_strips = entry_strips;
       c.options.refinement = refine;
       c.options.turn_slip_iterations = std::atoi(argv[i + 5]);
       c.options.root_tolerance = std::atof(argv[i + 6]);
       c.name = std::string(argv[i + 1]) + "x" + argv[i + 2] + " g" + argv[i + 3] + " " + argv[i + 4] + " p" + argv[i + 5] +
                " t" + argv[i + 6] + (refine.max_level > 0 ? " L" + std::to_string(refine.max_level) : "") +
-               (entry_periods > 0.0 ? " e" + std::to_string(entry_grading).substr(0, 4) : "");
+               (entry_periods > 0.0 ? " e" + std::to_string(entry_grading).substr(0, 4) : "") +
+               (entry_periods > 0.0 && entry_strips > 0 ? " ey" + std::to_string(entry_strips) : "");
       candidates.push_back(c);
       i += 6;
     } else {
       std::fprintf(stderr,
                    "usage: %s [--reference marcher|cvode] [--road-params FILE] [--coarse] [--time] [--points FILE.csv] "
-                   "[--refine LEVEL BUDGET RESOLUTION DAMPING_RATIO] [--entry PERIODS GRADING] [--grid NX NY GRADING sine|gauss|panels PASSES TOL]...\n",
+                   "[--refine LEVEL BUDGET RESOLUTION DAMPING_RATIO] [--entry PERIODS GRADING] [--entry-strips N] [--grid NX NY GRADING sine|gauss|panels PASSES TOL]...\n",
                    argv[0]);
+      return 2;
+    }
+  }
+  for (const Candidate& c : candidates) {
+    std::string error;
+    if (!c.options.validate(&error)) {
+      std::fprintf(stderr, "candidate %s: invalid brush options: %s\n", c.name.c_str(), error.c_str());
       return 2;
     }
   }

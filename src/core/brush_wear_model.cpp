@@ -24,6 +24,10 @@ bool GridSpec::validate(std::string* error) const {
     return failValidation(error, "grid.entry_transit_periods", entry_transit_periods, "finite and >= 0");
   if (!(entry_grading >= 0.0 && entry_grading < 1.0))
     return failValidation(error, "grid.entry_grading", entry_grading, "in [0, 1)");
+  if (entry_strips < 0 || entry_strips > kMaxStrips)
+    return failValidation(error, "grid.entry_strips", entry_strips, "in [0, " + std::to_string(kMaxStrips) + "]");
+  if (entry_strips > 0 && lateral_rule == LateralRule::kGaussShoulderPanels && (entry_strips < 6 || entry_strips % 2 != 0))
+    return failValidation(error, "grid.entry_strips", entry_strips, "0, or even and >= 6 with shoulder panels");
   return true;
 }
 
@@ -114,32 +118,45 @@ BrushWearModel::BrushWearModel(const TireParams& params, const BrushOptions& opt
   x_grid_ = makeXGrid(options.grid.edge_grading);
   if (options.grid.entry_transit_periods > 0.0) entry_x_grid_ = makeXGrid(options.grid.entry_grading);
 
-  const int ny = options.grid.n_strips;
-  eta_.resize(ny);
-  wy_.resize(ny);
-  gy_.resize(ny);
-  sat_y_.resize(ny);
-  const PressureShape gy(params.footprint.n_y, params.footprint.lambda_y, params.footprint.y_e_m / params.footprint.b_m);
-  if (options.grid.lateral_rule == LateralRule::kGaussShoulderPanels) {
-    shoulderPanels(ny, params.footprint.n_y, &eta_, &wy_);
-  } else if (options.grid.lateral_rule == LateralRule::kGaussLegendre) {
-    gaussLegendre(ny, &eta_, &wy_);
+  y_grid_ = makeYGrid(options.grid.n_strips);
+  if (options.grid.entry_transit_periods > 0.0 && options.grid.entry_strips > 0 &&
+      options.grid.entry_strips != options.grid.n_strips)
+    entry_y_grid_ = makeYGrid(options.grid.entry_strips);
+}
+
+int BrushWearModel::strips() const {
+  return static_cast<int>(std::max(y_grid_.eta.size(), entry_y_grid_.eta.size()));
+}
+
+BrushWearModel::YGrid BrushWearModel::makeYGrid(int n_strips) const {
+  YGrid g;
+  g.eta.resize(n_strips);
+  g.wy.resize(n_strips);
+  g.gy.resize(n_strips);
+  g.sat_y.resize(n_strips);
+  const FootprintParams& fp = params_.footprint;
+  const PressureShape gy(fp.n_y, fp.lambda_y, fp.y_e_m / fp.b_m);
+  if (options_.grid.lateral_rule == LateralRule::kGaussShoulderPanels) {
+    shoulderPanels(n_strips, fp.n_y, &g.eta, &g.wy);
+  } else if (options_.grid.lateral_rule == LateralRule::kGaussLegendre) {
+    gaussLegendre(n_strips, &g.eta, &g.wy);
   } else {
     auto map = [](double t) { return std::sin(0.5 * units::kPi * t); };  // clusters strips at the shoulders
-    for (int j = 0; j < ny; ++j) {
-      const double t0 = -1.0 + 2.0 * j / ny, t1 = -1.0 + 2.0 * (j + 1) / ny;
-      eta_[j] = map(0.5 * (t0 + t1));
-      wy_[j] = map(t1) - map(t0);
+    for (int j = 0; j < n_strips; ++j) {
+      const double t0 = -1.0 + 2.0 * j / n_strips, t1 = -1.0 + 2.0 * (j + 1) / n_strips;
+      g.eta[j] = map(0.5 * (t0 + t1));
+      g.wy[j] = map(t1) - map(t0);
     }
-    if (ny % 2 == 1) eta_[ny / 2] = 0.0;
+    if (n_strips % 2 == 1) g.eta[n_strips / 2] = 0.0;
   }
-  for (int j = 0; j < ny; ++j) {
-    gy_[j] = gy(eta_[j]);
-    sat_y_[j] = gy_[j] > 0.0 ? std::pow(gy_[j], -params.friction.q) : 0.0;
+  for (int j = 0; j < n_strips; ++j) {
+    g.gy[j] = gy(g.eta[j]);
+    g.sat_y[j] = g.gy[j] > 0.0 ? std::pow(g.gy[j], -params_.friction.q) : 0.0;
   }
-  y_symmetric_ = params.footprint.y_e_m == 0.0;
-  for (int j = 0; j < ny && y_symmetric_; ++j)
-    y_symmetric_ = eta_[j] == -eta_[ny - 1 - j] && wy_[j] == wy_[ny - 1 - j] && gy_[j] == gy_[ny - 1 - j];
+  g.symmetric = fp.y_e_m == 0.0;
+  for (int j = 0, k = n_strips - 1; j < n_strips && g.symmetric; ++j, --k)
+    g.symmetric = g.eta[j] == -g.eta[k] && g.wy[j] == g.wy[k] && g.gy[j] == g.gy[k];
+  return g;
 }
 
 BrushWearModel::XGrid BrushWearModel::makeXGrid(double leading_grading) const {
@@ -169,13 +186,12 @@ BrushWearModel::XGrid BrushWearModel::makeXGrid(double leading_grading) const {
   return g;
 }
 
-const BrushWearModel::XGrid& BrushWearModel::xGridFor(double half_length_m, double kx_pa_per_m,
-                                                      double rolling_speed_mps) const {
+bool BrushWearModel::entryTransient(double half_length_m, double kx_pa_per_m, double rolling_speed_mps) const {
   const double periods = options_.grid.entry_transit_periods;
-  if (!(periods > 0.0)) return x_grid_;
+  if (!(periods > 0.0)) return false;
   const double period = 2.0 * units::kPi * std::sqrt(params_.tread.m_kg_per_m2 / kx_pa_per_m);  // [s]
   const double transit = 2.0 * half_length_m / rolling_speed_mps;                               // [s]
-  return transit <= periods * period ? entry_x_grid_ : x_grid_;
+  return transit <= periods * period;
 }
 
 namespace {
@@ -228,11 +244,13 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
                                      : -std::numeric_limits<double>::infinity();
   const double p_scale = Fz / (2.0 * a) / (2.0 * b);  // p = p_scale g_x g_y
   const double sat_floor = friction_.saturation(fr.p_0_pa);
-  const XGrid& xg = xGridFor(a, kx, Vr);
+  const bool entry = entryTransient(a, kx, Vr);
+  const XGrid& xg = entry ? entry_x_grid_ : x_grid_;
+  const YGrid& yg = entry && !entry_y_grid_.eta.empty() ? entry_y_grid_ : y_grid_;
   const int n = static_cast<int>(xg.s.size()) - 1;
-  const int ny = static_cast<int>(eta_.size());
+  const int ny = static_cast<int>(yg.eta.size());
   // Mirror symmetry in y: v_r does not depend on y without turn slip, and g_y is even.
-  const bool mirror = options_.use_symmetry && y_symmetric_ && Omega == 0.0;
+  const bool mirror = options_.use_symmetry && yg.symmetric && Omega == 0.0;
   const int n_active = mirror ? (ny + 1) / 2 : ny;
   const int passes = Omega == 0.0 ? 1 : options_.turn_slip_iterations;
 
@@ -294,17 +312,17 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
   for (int j = 0; j < n_padded; ++j) {
     const bool active = j < n_active;
     const double mirror_factor = (mirror && 2 * j + 1 != ny) ? 2.0 : 1.0;  // a mirrored pair counts twice
-    strip_constants.weight[j] = active ? wy_[j] * mirror_factor : 0.0;
-    strip_constants.y_mz[j] = active && !mirror ? b * eta_[j] : 0.0;
-    strip_constants.y[j] = active ? b * eta_[j] : 0.0;
-    strip_constants.gy[j] = active ? gy_[j] : 0.0;
-    strip_constants.sat_y[j] = active ? sat_y_[j] : 0.0;
+    strip_constants.weight[j] = active ? yg.wy[j] * mirror_factor : 0.0;
+    strip_constants.y_mz[j] = active && !mirror ? b * yg.eta[j] : 0.0;
+    strip_constants.y[j] = active ? b * yg.eta[j] : 0.0;
+    strip_constants.gy[j] = active ? yg.gy[j] : 0.0;
+    strip_constants.sat_y[j] = active ? yg.sat_y[j] : 0.0;
     for (auto field : {&march::PathState::dlx, &march::PathState::dly, &march::PathState::dlx_p,
                        &march::PathState::dly_p, &march::PathState::ux_p, &march::PathState::uy_p,
                        &march::PathState::z, &march::PathState::z_p, &march::PathState::sliding,
                        &march::PathState::sliding_p})
       (el->*field)[j] = 0.0;
-    el->ux[j] = active && options_.enter_at_road_velocity ? vrx0 + Omega * b * eta_[j] : 0.0;
+    el->ux[j] = active && options_.enter_at_road_velocity ? vrx0 + Omega * b * yg.eta[j] : 0.0;
     el->uy[j] = active && options_.enter_at_road_velocity ? vry0 - Omega * a : 0.0;
   }
   for (int j = 0; j < n_active; ++j) refined_step[j] = -2;  // none
@@ -313,7 +331,8 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
   double fx = 0.0, fy = 0.0, mz = 0.0, wear_t = 0.0, stick_area = 0.0, exact_area = 0.0;
   if (fields) {
     for (int i = 0; i <= n; ++i) fields->x_m[i] = a * xg.s[i];
-    for (int j = 0; j < ny; ++j) fields->y_m[j] = b * eta_[j];
+    fields->n_strips = ny;
+    for (int j = 0; j < ny; ++j) fields->y_m[j] = b * yg.eta[j];
   }
 
   auto store = [&](int i, int j, const NodeSolution& o, const march::PathState& state) {
@@ -357,7 +376,7 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
   {  // Leading edge: p = 0, no friction; the element slips at u - v_r.
     const double w0 = xg.wx[0] * a * b;
     for (int j = 0; j < n_active; ++j) {
-      const double y = b * eta_[j];
+      const double y = b * yg.eta[j];
       const double vsx = el->ux[j] - (vrx0 + Omega * y), vsy = el->uy[j] - (vry0 - Omega * a);
       const double vs = std::sqrt(vsx * vsx + vsy * vsy);
       march::NodeLanes& o = *prev_nodes;

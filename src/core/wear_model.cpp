@@ -45,8 +45,11 @@ bool parseOrientation(const std::string& name, TurnSlipOrientation* orientation)
 BrushOptions presetOptions(Preset preset, TurnSlipOrientation orientation) {
   // Where the element crosses the patch within one natural period (high speed), the patch response is
   // its entry transient: the leading half of the x grid is then graded 0.98 instead of 0.9 (road Fy
-  // 1.5% -> 0.61% for standard, no cost: docs/performance.md, "Entry-transient grid").
+  // 1.5% -> 0.61% for standard, no cost: docs/performance.md, "Entry-transient grid"). There `standard`
+  // also marches 24 strips instead of 12, for the capture front in the shoulder band that sets Mz (road
+  // Mz 6.6% -> 1.8%; same section).
   constexpr double kEntryTransitPeriods = 1.0, kEntryGrading = 0.98;
+  constexpr int kStandardEntryStrips = 24;
   BrushOptions o;
   o.orientation = orientation;
   switch (preset) {
@@ -57,7 +60,8 @@ BrushOptions presetOptions(Preset preset, TurnSlipOrientation orientation) {
       o.root_tolerance = 3e-2;
       break;
     case Preset::kStandard:
-      o.grid = {60, 12, 0.9, LateralRule::kGaussShoulderPanels, kEntryTransitPeriods, kEntryGrading};
+      o.grid = {60, 12, 0.9, LateralRule::kGaussShoulderPanels, kEntryTransitPeriods, kEntryGrading,
+                kStandardEntryStrips};
       o.turn_slip_iterations = 1;
       o.root_tolerance = 3e-2;
       // Substeps where sliding is unstable (stick-slip bursts); the budget (as many substeps as grid
@@ -122,7 +126,8 @@ Preset WearModel::choosePreset() const {
 
 bool WearModel::fitsFields(Preset preset, const PatchFields& fields) const {
   const BrushWearModel& s = solver(preset);
-  return fields.n_x_nodes == s.nodesX() && fields.n_strips == s.strips() &&
+  // Sized by resize(nodesX(), strips()); an evaluation may since have set n_strips to a narrower grid's.
+  return fields.n_x_nodes == s.nodesX() && fields.y_m.size() == static_cast<size_t>(s.strips()) &&
          fields.pressure_pa.size() == static_cast<size_t>(s.nodesX()) * static_cast<size_t>(s.strips());
 }
 

@@ -47,7 +47,8 @@ std::vector<Case> roadCases() {
                             {150, 6, 0.2, 20, 0},    {50, 15, -0.2, 0.5, 0.2}, {100, 1, 0.05, 40, 0},
                             {150, 10, -0.05, 5, 0.2}, {50, 25, 0.2, 40, 0},   {100, 0, 0.2, 5, 0},
                             {150, 0, -0.05, 0.5, 0.2}, {150, 0, 0, 40, 0.2},   {150, 1, 0, 40, 0.2},
-                            {150, 0, 0.05, 0.5, 0},  {50, 0, 0.2, 5, 0}};
+                            {150, 0, 0.05, 0.5, 0},  {50, 0, 0.2, 5, 0},     {100, 0, 0, 5, 0.2},
+                            {50, 6, -0.05, 5, 0}};
   std::vector<Case> out;
   for (const auto& r : rows) {
     Case c{OperatingPoint(), TurnSlipOrientation::kLiteral};
@@ -84,10 +85,11 @@ void checkPreset(Preset preset, const std::vector<Case>& cases, const Bounds& bo
 
 // Bounds: docs/performance.md, "Accuracy" (whole-grid maxima, rounded up). On the rig, standard meets
 // the issue 4 targets (F and Mz 1%, W_r 2%, fractions 0.02), so those are asserted; on the road grid
-// it meets them for Fx and Fy (0.37% and 0.61% with the entry-transient grid) but not for Mz, W_r and
-// the fractions, and the measured maxima are asserted.
+// it meets them for Fx and Fy (0.37% and 0.67% with the entry-transient grid) but not for Mz (1.8% with
+// 24 strips on the entry-transient grid, 6.6% with 12), W_r and the fractions, and the measured maxima
+// are asserted.
 TEST(PresetAccuracy, StandardOnTable3Rig) { checkPreset(Preset::kStandard, rigCases(), {0.01, 0.01, 0.02, 0.02}); }
-TEST(PresetAccuracy, StandardOnRoadGrid) { checkPreset(Preset::kStandard, roadCases(), {0.007, 0.07, 0.09, 0.03}); }
+TEST(PresetAccuracy, StandardOnRoadGrid) { checkPreset(Preset::kStandard, roadCases(), {0.007, 0.02, 0.09, 0.03}); }
 TEST(PresetAccuracy, FastOnTable3Rig) { checkPreset(Preset::kFast, rigCases(), {0.015, 0.04, 0.02, 0.02}); }
 TEST(PresetAccuracy, FastOnRoadGrid) { checkPreset(Preset::kFast, roadCases(), {0.04, 0.20, 0.20, 0.08}); }
 

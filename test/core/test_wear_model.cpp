@@ -294,6 +294,14 @@ TEST(BrushOptionsValidation, RefinementAndShoulderPanelsNameTheField) {
   o = BrushOptions();
   o.grid.entry_grading = 1.0;  // the sine map degenerates at the edge
   EXPECT_NE(message(o).find("grid.entry_grading"), std::string::npos);
+  for (int strips : {-1, GridSpec::kMaxStrips + 1}) {
+    o = BrushOptions();
+    o.grid.entry_strips = strips;
+    EXPECT_NE(message(o).find("grid.entry_strips"), std::string::npos) << strips;
+  }
+  o = presetOptions(Preset::kStandard);
+  o.grid.entry_strips = 13;  // shoulder panels take an even count
+  EXPECT_NE(message(o).find("grid.entry_strips"), std::string::npos);
   o = BrushOptions();
   o.max_simd_lanes = 3;  // packs are 1, 2 or 4 strips wide
   EXPECT_NE(message(o).find("max_simd_lanes"), std::string::npos);
@@ -310,9 +318,11 @@ TEST(BrushEntryGrid, SwitchesAtTheTransitOfTheGivenNumberOfNaturalPeriods) {
   const TireParams params;
   BrushOptions off = presetOptions(Preset::kStandard);
   off.grid.entry_transit_periods = 0.0;
+  off.grid.entry_strips = 0;
   BrushOptions on = off, always = off;
   on.grid.entry_transit_periods = 1.5;
   on.grid.entry_grading = always.grid.entry_grading = 0.98;
+  on.grid.entry_strips = always.grid.entry_strips = 24;
   always.grid.entry_transit_periods = 1e9;
   const BrushWearModel model_off(params, off), model_on(params, on), model_always(params, always);
 
@@ -331,6 +341,34 @@ TEST(BrushEntryGrid, SwitchesAtTheTransitOfTheGivenNumberOfNaturalPeriods) {
     EXPECT_NE(r_off.fy_n, r_always.fy_n) << factor;
     EXPECT_EQ(r_on.fy_n, factor < 1.0 ? r_off.fy_n : r_always.fy_n) << factor;
     EXPECT_EQ(r_on.wear_rate_kg_per_m, factor < 1.0 ? r_off.wear_rate_kg_per_m : r_always.wear_rate_kg_per_m) << factor;
+    EXPECT_EQ(r_on.mz_nm, factor < 1.0 ? r_off.mz_nm : r_always.mz_nm) << factor;
+  }
+}
+
+// Fields are sized for the widest lateral grid (strips()); each evaluation says how many strips it used,
+// and the strip centres are those of that grid's rule (mirror-symmetric here, y_e = 0).
+TEST(BrushEntryGrid, FieldsCarryTheStripsOfTheGridUsed) {
+  const TireParams params;
+  const BrushWearModel standard(params, presetOptions(Preset::kStandard));
+  const BrushOptions options = presetOptions(Preset::kStandard);
+  ASSERT_GT(options.grid.entry_strips, options.grid.n_strips);
+  EXPECT_EQ(standard.strips(), options.grid.entry_strips);
+  PatchFields fields;
+  fields.resize(standard.nodesX(), standard.strips());
+  OperatingPoint op;
+  op.load_n = 100.0;
+  op.slip_angle_rad = 3.0 * units::kDegree;
+  for (double speed_mps : {0.5, 40.0, 0.5}) {  // rig-like transit, entry transient, and back
+    op.speed_mps = speed_mps;
+    WearResult with_fields, without;
+    standard.evaluate(op, &with_fields, &fields);
+    standard.evaluate(op, &without);
+    const int expected = speed_mps > 10.0 ? options.grid.entry_strips : options.grid.n_strips;
+    EXPECT_EQ(fields.n_strips, expected) << speed_mps;
+    for (int j = 0; j < expected; ++j)
+      EXPECT_DOUBLE_EQ(fields.y_m[j], -fields.y_m[expected - 1 - j]) << speed_mps << " strip " << j;
+    EXPECT_EQ(with_fields.mz_nm, without.mz_nm) << speed_mps;  // the fields do not change the model
+    EXPECT_GT(fields.pressure_pa[fields.index(standard.nodesX() / 2, expected / 2)], 0.0) << speed_mps;
   }
 }
 

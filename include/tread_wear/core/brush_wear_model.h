@@ -20,7 +20,8 @@
 /// graded towards both edges (towards the leading edge more strongly where the transit 2a/V_r is as
 /// short as the element's natural period, GridSpec::entry_transit_periods), and lateral strips
 /// clustered towards the shoulders (sine-mapped midpoints, Gauss-Legendre nodes, or Gauss-Legendre
-/// panels with two of three in the shoulder band of the Eq 8 pressure). Each implicit step treats
+/// panels with two of three in the shoulder band of the Eq 8 pressure; more of them on that short-transit
+/// grid, GridSpec::entry_strips, for the capture front in the shoulder band). Each implicit step treats
 /// Coulomb friction as a set-valued law
 /// at v_s = 0 (return mapping): stick if the trial stress is inside the static disc, else one monotone
 /// scalar equation for |v_s| is solved by safeguarded Newton iteration in ln|v_s| (bounded iteration
@@ -48,7 +49,7 @@
 /// y_e = 0 the problem is mirror-symmetric in y and only half the strips are marched.
 /// Memory: the per-strip state lives on the stack (sized for GridSpec::kMaxStrips strips: about 135 KB of
 /// stack per call); evaluate()
-/// allocates nothing, is const and thread-safe; its work is bounded by (n_x_steps * n_strips +
+/// allocates nothing, is const and thread-safe; its work is bounded by (n_x_steps * max(n_strips, entry_strips) +
 /// refinement.node_budget) * turn_slip_iterations * (BrushOptions::max_root_iterations + 1) friction
 /// evaluations (a step redone in substeps keeps its first, coarse, solve in the first term).
 ///
@@ -95,6 +96,11 @@ struct GridSpec {
   /// grid (x > 0) then uses entry_grading instead of edge_grading. Same node count, so same cost.
   double entry_transit_periods = 0.0;  ///< [-], >= 0
   double entry_grading = 0.0;          ///< beta of the leading half on the entry-transient grid [-], in [0, 1)
+  /// Lateral strips on the entry-transient grid (0: n_strips) [-], same lateral rule. There the elements
+  /// slide from the leading edge until the road captures them; where the pressure falls in the shoulder
+  /// band the capture point runs to the trailing edge within a few hundredths of b, a steep front in the
+  /// strip force across y that turn slip shifts differently on the two sides, and Mz follows that front.
+  int entry_strips = 0;
 
   bool validate(std::string* error) const;
 };
@@ -160,7 +166,7 @@ struct WearResult {
 /// Local fields on the grid (node-major: index = i * n_strips + j, i along x from the leading edge).
 struct PatchFields {
   int n_x_nodes = 0;
-  int n_strips = 0;
+  int n_strips = 0;  ///< strips of the last evaluation's grid (at most the y_m.size() that resize() set)
   std::vector<double> x_m;              ///< node x [m], size n_x_nodes
   std::vector<double> y_m;              ///< strip centre y [m], size n_strips
   std::vector<double> pressure_pa;      ///< p [Pa]
@@ -188,7 +194,9 @@ class BrushWearModel {
   void evaluate(const OperatingPoint& op, WearResult* result, PatchFields* fields = nullptr) const;
 
   int nodesX() const { return static_cast<int>(x_grid_.s.size()); }
-  int strips() const { return static_cast<int>(eta_.size()); }
+  /// Strips of the widest lateral grid: size PatchFields with it. evaluate() sets fields->n_strips to
+  /// the strips of the grid it used (the entry-transient grid may have more).
+  int strips() const;
   const TireParams& params() const { return params_; }
   const BrushOptions& options() const { return options_; }
 
@@ -209,9 +217,18 @@ class BrushWearModel {
     std::vector<Step> steps;      ///< per-step BDF2 coefficients
   };
   XGrid makeXGrid(double leading_grading) const;
-  /// The x grid for this contact half length a, stiffness k_x (Eq 13) and rolling speed (the
-  /// entry-transient grid at short transits).
-  const XGrid& xGridFor(double half_length_m, double kx_pa_per_m, double rolling_speed_mps) const;
+  /// Grid-only quantities across y (the strips).
+  struct YGrid {
+    std::vector<double> eta;    ///< strip centre y/b
+    std::vector<double> wy;     ///< strip weight in y/b (sums to 2)
+    std::vector<double> gy;     ///< g_y at the strip centres
+    std::vector<double> sat_y;  ///< g_y^-q at the strip centres (y factor of sat(p))
+    bool symmetric = false;     ///< g_y even (y_e = 0) and the strip rule mirror-symmetric
+  };
+  YGrid makeYGrid(int n_strips) const;
+  /// Whether an element crosses the patch of half length a within entry_transit_periods of its natural
+  /// period 2 pi sqrt(m/k_x) (k_x from Eq 13) at this rolling speed: then the entry-transient grids apply.
+  bool entryTransient(double half_length_m, double kx_pa_per_m, double rolling_speed_mps) const;
 
   TireParams params_;
   BrushOptions options_;
@@ -219,11 +236,8 @@ class BrushWearModel {
   PressureShape gx_;               ///< g_x without the centre shift (its even part)
   XGrid x_grid_;                   ///< edge_grading at both edges
   XGrid entry_x_grid_;             ///< entry_grading at the leading edge (when the entry grid is on)
-  std::vector<double> eta_;        ///< strip centre y/b
-  std::vector<double> wy_;         ///< strip weight in y/b (sums to 2)
-  std::vector<double> gy_;         ///< g_y at the strip centres
-  std::vector<double> sat_y_;      ///< g_y^-q at the strip centres (y factor of sat(p))
-  bool y_symmetric_ = false;       ///< g_y even (y_e = 0) and the strip rule mirror-symmetric
+  YGrid y_grid_;                   ///< n_strips
+  YGrid entry_y_grid_;             ///< entry_strips (empty when the entry grid keeps n_strips)
   /// The x step of the strips side by side: packs of strips in SIMD lanes where the CPU allows
   /// (chosen once, here), else one strip after the other.
   void (*advance_)(const march::StepArgs&, int first, int count, const march::PathState& from, march::PathState* to,
