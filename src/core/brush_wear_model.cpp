@@ -26,7 +26,8 @@ bool GridSpec::validate(std::string* error) const {
     return failValidation(error, "grid.entry_grading", entry_grading, "in [0, 1)");
   if (entry_strips < 0 || entry_strips > kMaxStrips)
     return failValidation(error, "grid.entry_strips", entry_strips, "in [0, " + std::to_string(kMaxStrips) + "]");
-  if (entry_strips > 0 && lateral_rule == LateralRule::kGaussShoulderPanels && (entry_strips < 6 || entry_strips % 2 != 0))
+  if (entry_strips > 0 && lateral_rule == LateralRule::kGaussShoulderPanels &&
+      (entry_strips < 6 || entry_strips % 2 != 0))
     return failValidation(error, "grid.entry_strips", entry_strips, "0, or even and >= 6 with shoulder panels");
   return true;
 }
