@@ -5,7 +5,7 @@ namespace march {
 
 void advanceScalar(const StepArgs& args, int first, int count, const PathState& from, PathState* to, NodeLanes* out,
                    RootCounts* counts) {
-  for (int j = first; j < first + count; ++j) advancePack<double>(args, j, 1, from, to, out, counts);
+  advanceInPacks<double>(args, first, count, from, to, out, counts);
 }
 
 AdvanceFunction fastestAdvance(int max_lanes) {

@@ -442,6 +442,14 @@ inline void advancePack(const StepArgs& args, int j, int valid, const PathState&
   T::store(out->stuck + j, select(stuck, V(1.0), V(0.0)));
 }
 
+/// One x step of strips [first, first + count) in packs of the lane type V (an AdvanceFunction's body).
+template <class V>
+inline void advanceInPacks(const StepArgs& args, int first, int count, const PathState& from, PathState* to,
+                           NodeLanes* out, RootCounts* counts) {
+  for (int j = first; j < first + count; j += LaneTraits<V>::kWidth)
+    advancePack<V>(args, j, first + count - j, from, to, out, counts);
+}
+
 }  // namespace
 }  // namespace march
 }  // namespace tread_wear

@@ -83,8 +83,7 @@ struct LaneTraits<F64x4> {
 
 void advanceAvx2(const StepArgs& args, int first, int count, const PathState& from, PathState* to, NodeLanes* out,
                  RootCounts* counts) {
-  for (int j = first; j < first + count; j += LaneTraits<F64x4>::kWidth)
-    advancePack<F64x4>(args, j, first + count - j, from, to, out, counts);
+  advanceInPacks<F64x4>(args, first, count, from, to, out, counts);
 }
 
 }  // namespace march

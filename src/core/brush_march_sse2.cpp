@@ -72,8 +72,7 @@ struct LaneTraits<F64x2> {
 
 void advanceSse2(const StepArgs& args, int first, int count, const PathState& from, PathState* to, NodeLanes* out,
                  RootCounts* counts) {
-  for (int j = first; j < first + count; j += LaneTraits<F64x2>::kWidth)
-    advancePack<F64x2>(args, j, first + count - j, from, to, out, counts);
+  advanceInPacks<F64x2>(args, first, count, from, to, out, counts);
 }
 
 }  // namespace march
