@@ -36,7 +36,6 @@ double betweenGroupSS(const std::vector<int>& labels, const std::vector<double>&
   return ss;
 }
 
-
 /// The non-zero differences of a signed-rank test: |d|, their average ranks and whether d > 0.
 struct SignedRanks {
   std::vector<double> magnitude, ranks;
@@ -51,6 +50,30 @@ SignedRanks signedRanks(const std::vector<double>& d) {
     }
   sr.ranks = averageRanks(sr.magnitude);
   return sr;
+}
+
+/// One-sided p of the signed-rank test from the normal approximation of W+ (wilcoxonSignedRankPValueNormal).
+double signedRankNormalPValue(const SignedRanks& sr) {
+  if (sr.ranks.empty()) return 1.0;
+  const double n = static_cast<double>(sr.ranks.size());
+  double w_plus = 0.0;
+  for (std::size_t i = 0; i < sr.ranks.size(); ++i)
+    if (sr.positive[i]) w_plus += sr.ranks[i];
+  // Tie correction: each group of t equal |d| lowers the variance by (t^3 - t) / 48.
+  std::vector<double> sorted = sr.magnitude;
+  std::sort(sorted.begin(), sorted.end());
+  double ties = 0.0;
+  for (std::size_t i = 0; i < sorted.size();) {
+    std::size_t j = i;
+    while (j < sorted.size() && sorted[j] == sorted[i]) ++j;
+    const double t = static_cast<double>(j - i);
+    ties += t * t * t - t;
+    i = j;
+  }
+  const double variance = n * (n + 1.0) * (2.0 * n + 1.0) / 24.0 - ties / 48.0;
+  if (!(variance > 0.0)) return 1.0;
+  const double z = (w_plus - n * (n + 1.0) / 4.0 + 0.5) / std::sqrt(variance);  // continuity-corrected
+  return std::min(1.0, 0.5 * std::erfc(-z / std::sqrt(2.0)));
 }
 
 }  // namespace
@@ -223,7 +246,7 @@ double nestedFTestPValueOnBound(double rss_small, double rss_large, int dof_larg
 double wilcoxonSignedRankPValue(const std::vector<double>& d) {
   const SignedRanks sr = signedRanks(d);
   if (sr.ranks.empty()) return 1.0;
-  if (static_cast<int>(sr.ranks.size()) > kWilcoxonExactMaxDifferences) return wilcoxonSignedRankPValueNormal(d);
+  if (static_cast<int>(sr.ranks.size()) > kWilcoxonExactMaxDifferences) return signedRankNormalPValue(sr);
   // Doubled average ranks are integers, so the null distribution of 2 W+ is a count over integer sums.
   std::vector<int> doubled(sr.ranks.size());
   int observed = 0, total = 0;
@@ -245,29 +268,7 @@ double wilcoxonSignedRankPValue(const std::vector<double>& d) {
   return std::min(1.0, p);
 }
 
-double wilcoxonSignedRankPValueNormal(const std::vector<double>& d) {
-  const SignedRanks sr = signedRanks(d);
-  if (sr.ranks.empty()) return 1.0;
-  const double n = static_cast<double>(sr.ranks.size());
-  double w_plus = 0.0;
-  for (std::size_t i = 0; i < sr.ranks.size(); ++i)
-    if (sr.positive[i]) w_plus += sr.ranks[i];
-  // Tie correction: each group of t equal |d| lowers the variance by (t^3 - t) / 48.
-  std::vector<double> sorted = sr.magnitude;
-  std::sort(sorted.begin(), sorted.end());
-  double ties = 0.0;
-  for (std::size_t i = 0; i < sorted.size();) {
-    std::size_t j = i;
-    while (j < sorted.size() && sorted[j] == sorted[i]) ++j;
-    const double t = static_cast<double>(j - i);
-    ties += t * t * t - t;
-    i = j;
-  }
-  const double variance = n * (n + 1.0) * (2.0 * n + 1.0) / 24.0 - ties / 48.0;
-  if (!(variance > 0.0)) return 1.0;
-  const double z = (w_plus - n * (n + 1.0) / 4.0 + 0.5) / std::sqrt(variance);  // continuity-corrected
-  return std::min(1.0, 0.5 * std::erfc(-z / std::sqrt(2.0)));
-}
+double wilcoxonSignedRankPValueNormal(const std::vector<double>& d) { return signedRankNormalPValue(signedRanks(d)); }
 
 ProportionInterval wilsonInterval(int successes, int trials, double z) {
   if (trials < 1 || successes < 0 || successes > trials)
