@@ -84,12 +84,12 @@ std::vector<WearResult> cvodeAll(const TireParams& params, const std::vector<ben
 void report(const std::string& name, const std::string& set, const std::vector<bench::Condition>& conditions,
             const std::vector<WearResult>& ref, const std::vector<WearResult>& res, std::vector<double> cpu_us,
             std::FILE* points) {
-  bench::Errors worst;
+  SolverErrors worst;
   size_t worst_k[3] = {0, 0, 0};
   double worst_v[3] = {0, 0, 0};
   int over[5] = {0, 0, 0, 0, 0};  // conditions beyond the bounds: Fx, Fy, Mz 1%; W_r 2%; stick 0.02
   for (size_t k = 0; k < conditions.size(); ++k) {
-    const bench::Errors e = bench::compare(ref[k], res[k], conditions[k].op.load_n);
+    const SolverErrors e = solverErrors(ref[k], res[k], conditions[k].op.load_n);
     worst.maxWith(e);
     const double ratio[5] = {e.fx / 0.01, e.fy / 0.01, e.mz / 0.01, e.wear / 0.02, e.stick / 0.02};
     for (int q = 0; q < 5; ++q) over[q] += ratio[q] > 1.0;

@@ -1,6 +1,6 @@
 #pragma once
 /// @file bench_conditions.h
-/// Condition grids and error measures shared by the wear-model benchmark and accuracy programs
+/// Condition grids shared by the wear-model benchmark and accuracy programs
 /// (docs/performance.md). Header-only; used by bench/ only.
 ///
 /// Grids:
@@ -8,12 +8,7 @@
 ///    Abrasion Test Stand runs them (slip_angle = -alpha, path radius +60 mm), in both orientations.
 ///  - road: load x slip angle (past the force peak, which is near 15 deg for the Grosch wheel at 100 N)
 ///    x slip ratio in [-0.2, 0.2] x speed 0.5..40 m/s x path curvature (straight and R = 5 m).
-/// Error measures against a reference result (documented in docs/performance.md):
-///  - Fx, Fy: |F - F_ref| / max(|F_ref|, 0.05 |(Fx, Fy)_ref|, 0.005 Fz): relative, with an absolute
-///    floor for a component that is near zero while the other carries the force (and for F ~ 0).
-///  - Mz: |Mz - Mz_ref| / max(|Mz_ref|, a * floor_F) where floor_F is the force floor above, a the
-///    contact half length (the natural lever arm; Mz changes sign past the force peak).
-///  - W_r: relative (W_r >= w4 * area / V > 0 always). Area fractions: absolute.
+/// Error measures against a reference result: tread_wear/core/solver_errors.h.
 
 #include <algorithm>
 #include <cmath>
@@ -21,6 +16,7 @@
 #include <vector>
 
 #include "tread_wear/core/brush_wear_model.h"
+#include "tread_wear/core/solver_errors.h"
 #include "tread_wear/core/units.h"
 
 namespace tread_wear {
@@ -80,34 +76,6 @@ inline std::vector<Condition> roadConditions(double nominal_load_n, bool coarse 
             out.push_back(cd);
           }
   return out;
-}
-
-/// Errors of one result against its reference (see the file comment for the scales).
-struct Errors {
-  double fx = 0, fy = 0, mz = 0, wear = 0, stick = 0, slide = 0, exact_stick = 0;
-
-  void maxWith(const Errors& e) {
-    fx = std::max(fx, e.fx);
-    fy = std::max(fy, e.fy);
-    mz = std::max(mz, e.mz);
-    wear = std::max(wear, e.wear);
-    stick = std::max(stick, e.stick);
-    slide = std::max(slide, e.slide);
-    exact_stick = std::max(exact_stick, e.exact_stick);
-  }
-};
-
-inline Errors compare(const WearResult& ref, const WearResult& r, double load_n) {
-  const double f_floor = std::max(0.05 * std::hypot(ref.fx_n, ref.fy_n), 0.005 * load_n);
-  Errors e;
-  e.fx = std::fabs(r.fx_n - ref.fx_n) / std::max(std::fabs(ref.fx_n), f_floor);
-  e.fy = std::fabs(r.fy_n - ref.fy_n) / std::max(std::fabs(ref.fy_n), f_floor);
-  e.mz = std::fabs(r.mz_nm - ref.mz_nm) / std::max(std::fabs(ref.mz_nm), ref.half_length_m * f_floor);
-  e.wear = std::fabs(r.wear_rate_kg_per_m - ref.wear_rate_kg_per_m) / ref.wear_rate_kg_per_m;
-  e.stick = std::fabs(r.stick_fraction - ref.stick_fraction);
-  e.slide = std::fabs(r.slide_fraction - ref.slide_fraction);
-  e.exact_stick = std::fabs(r.exact_stick_fraction - ref.exact_stick_fraction);
-  return e;
 }
 
 }  // namespace bench

@@ -101,8 +101,8 @@ void BM_Evaluate(benchmark::State& state) {
   if (preset != Preset::kReference) {
     const auto res = evaluateGrid(lit, flip, conds);
     const auto& ref = reference(which);
-    bench::Errors worst;
-    for (size_t k = 0; k < conds.size(); ++k) worst.maxWith(bench::compare(ref[k], res[k], conds[k].op.load_n));
+    SolverErrors worst;
+    for (size_t k = 0; k < conds.size(); ++k) worst.maxWith(solverErrors(ref[k], res[k], conds[k].op.load_n));
     state.counters["err_F_pct"] = 100.0 * std::max({worst.fx, worst.fy, worst.mz});
     state.counters["err_W_pct"] = 100.0 * worst.wear;
     state.counters["err_frac"] = std::max(worst.stick, worst.exact_stick);

@@ -9,6 +9,7 @@
 
 #include "tread_wear/core/brush_wear_model.h"
 #include "tread_wear/core/command_line.h"
+#include "tread_wear/core/csv.h"
 #include "tread_wear/core/params_io.h"
 #include "tread_wear/core/reference_solver.h"
 #include "tread_wear/core/units.h"
@@ -27,7 +28,12 @@ const char* const kUsage =
     "  --params FILE     tire parameter file (default: the built-in Grosch wheel, Table 4)\n"
     "  --orientation X   literal, flipped or both (default)\n"
     "  --quick           fewer rows (reference sweep and marcher grids up to 400x32)\n"
-    "  --extended        also the marcher at 3200x256 and 6400x256 (about 1 s per evaluation)\n";
+    "  --extended        also the marcher at 3200x256 and 6400x256 (about 1 s per evaluation)\n"
+    "  --point FZ_N,ALPHA_DEG,KAPPA,V_MPS,CURVATURE_PER_M\n"
+    "                    instead: the marcher's convergence in x alone at this operating point (x steps\n"
+    "                    30 ... 1920 against 6400, lateral grid fixed, no substeps), with the observed order\n"
+    "  --strips N        lateral strips of --point, shoulder panels (default 24)\n"
+    "  --grading G       edge grading of --point's x grids, in [0, 1) (default 0.9)\n";
 
 struct Sample {
   std::vector<WearResult> results;
@@ -150,6 +156,59 @@ void study(const TireParams& params, TurnSlipOrientation orientation, bool quick
   out << "\n";
 }
 
+/// "FZ,ALPHA_DEG,KAPPA,V,CURVATURE" as an operating point; false with *error naming what is wrong.
+bool parsePoint(const std::string& text, OperatingPoint* op, std::string* error) {
+  const std::vector<std::string> items = splitList(text);
+  double v[5];
+  bool ok = items.size() == 5;
+  for (size_t i = 0; ok && i < 5; ++i) ok = csv::parseFiniteDouble(items[i], &v[i]);
+  if (!ok) {
+    *error = "--point " + text + ": must be five numbers FZ_N,ALPHA_DEG,KAPPA,V_MPS,CURVATURE_PER_M";
+    return false;
+  }
+  op->load_n = v[0];
+  op->slip_angle_rad = v[1] * units::kDegree;
+  op->slip_ratio = v[2];
+  op->speed_mps = v[3];
+  op->path_curvature_per_m = v[4];
+  std::string why;
+  if (!op->validate(&why) || !(op->speed_mps > 0.0)) {
+    *error = "--point " + text + ": " + (why.empty() ? "speed must be > 0" : why);
+    return false;
+  }
+  return true;
+}
+
+void xStudy(const TireParams& params, const BrushOptions& options, const OperatingPoint& op, std::ostream& out) {
+  constexpr int kReferenceSteps = 6400;
+  const std::vector<int> ladder = {30, 60, 120, 240, 480, 960, 1920};
+  const std::vector<XConvergenceRow> rows = xConvergence(params, options, op, ladder, kReferenceSteps);
+  out << std::defaultfloat << "### Convergence in x at Fz " << op.load_n << " N, alpha "
+      << op.slip_angle_rad / units::kDegree << " deg, kappa " << op.slip_ratio << ", V " << op.speed_mps
+      << " m/s, curvature " << op.path_curvature_per_m << " 1/m\n\n"
+      << options.grid.n_strips << " shoulder-panel strips, edge grading " << options.grid.edge_grading
+      << ", no substeps, against " << kReferenceSteps
+      << " x steps on the same strips. Errors as in the accuracy tables (solver_errors.h); order = log2 of the "
+         "error ratio of successive rungs.\n\n"
+      << "| x steps | Fx % | Fy % | Mz % | W_r % | stick | order Fy | order Mz | order W_r |\n"
+      << "|---|---|---|---|---|---|---|---|---|\n";
+  // Not defined where an output is exact on every grid (Fy and Mz when straight and symmetric).
+  constexpr double kExact = 1e-12;
+  for (size_t k = 0; k < rows.size(); ++k) {
+    const SolverErrors& e = rows[k].errors;
+    out << "| " << rows[k].n_x_steps << std::fixed << std::setprecision(4) << " | " << 100 * e.fx << " | " << 100 * e.fy
+        << " | " << 100 * e.mz << " | " << 100 * e.wear << " | " << e.stick;
+    out << std::setprecision(2);
+    for (double SolverErrors::*f : {&SolverErrors::fy, &SolverErrors::mz, &SolverErrors::wear}) {
+      out << " | ";
+      const double coarse = k > 0 ? rows[k - 1].errors.*f : 0.0;
+      if (coarse > kExact && e.*f > kExact) out << std::log2(coarse / e.*f);
+    }
+    out << " |\n" << std::defaultfloat;
+  }
+  out << "\n";
+}
+
 }  // namespace
 
 std::vector<OperatingPoint> table3RigConditions() {
@@ -168,10 +227,30 @@ std::vector<OperatingPoint> table3RigConditions() {
   return points;
 }
 
+std::vector<XConvergenceRow> xConvergence(const TireParams& params, BrushOptions options, const OperatingPoint& op,
+                                          const std::vector<int>& ladder, int reference_n_x_steps) {
+  auto evaluate = [&](int n_x_steps) {
+    options.grid.n_x_steps = n_x_steps;
+    WearResult r;
+    BrushWearModel(params, options).evaluate(op, &r);
+    return r;
+  };
+  const WearResult reference = evaluate(reference_n_x_steps);
+  std::vector<XConvergenceRow> rows;
+  for (int n : ladder) {
+    XConvergenceRow row;
+    row.n_x_steps = n;
+    row.result = evaluate(n);
+    row.errors = solverErrors(reference, row.result, op.load_n);
+    rows.push_back(row);
+  }
+  return rows;
+}
+
 int runConvergenceCli(int argc, const char* const argv[], std::ostream& out, std::ostream& err) {
   CommandLine args;
   std::string error;
-  if (!args.parse(argc, argv, {"params", "orientation"}, {"quick", "extended"}, &error)) {
+  if (!args.parse(argc, argv, {"params", "orientation", "point", "strips", "grading"}, {"quick", "extended"}, &error)) {
     err << "tread_wear_convergence: " << error << "\n" << kUsage;
     return 2;
   }
@@ -185,8 +264,32 @@ int runConvergenceCli(int argc, const char* const argv[], std::ostream& out, std
     err << "tread_wear_convergence: --orientation " << orientation << ": must be literal, flipped or both\n";
     return 2;
   }
+  OperatingPoint point;
+  BrushOptions x_options;  // the x study: a fine, fixed lateral grid and tight roots, no substeps
+  x_options.grid.lateral_rule = LateralRule::kGaussShoulderPanels;
+  x_options.grid.n_strips = 24;
+  x_options.grid.edge_grading = 0.9;
+  x_options.turn_slip_iterations = 4;
+  x_options.root_tolerance = 1e-8;
+  x_options.max_root_iterations = 80;
+  const bool x_study = args.has("point");
+  if (x_study) {
+    if (!parsePoint(args.get("point"), &point, &error) || !args.integer("strips", &x_options.grid.n_strips, &error) ||
+        !args.number("grading", &x_options.grid.edge_grading, &error) || !x_options.validate(&error)) {
+      err << "tread_wear_convergence: " << error << "\n";
+      return 2;
+    }
+  } else if (args.has("strips") || args.has("grading")) {
+    err << "tread_wear_convergence: --strips and --grading belong to --point\n";
+    return 2;
+  }
   try {
     const TireParams params = params_path.empty() ? TireParams() : loadTireParams(params_path);
+    if (x_study) {
+      x_options.orientation = orientation == "flipped" ? TurnSlipOrientation::kFlipped : TurnSlipOrientation::kLiteral;
+      xStudy(params, x_options, point, out);
+      return 0;
+    }
     out << "## Convergence study (tread_wear_convergence" << (quick ? " --quick" : "") << (extended ? " --extended" : "")
         << ", params: "
         << (params_path.empty() ? "built-in Table 4" : params_path) << ")\n\n";

@@ -3,13 +3,14 @@
 // with the CVODE ReferenceBrushSolver within 0.02% on the rig grid and within 0.18% (Fx, Fy), 1.9% (Mz),
 // 0.8% (W_r) and 0.008 (fractions) on the road grid (docs/performance.md). The bounds are the whole-grid maxima of the accuracy study, rounded up; the
 // grid here is the Table 3 rig set plus a road subset that contains the study's worst conditions.
-// Error scales (bench/bench_conditions.h, restated): F relative to max(|F_ref|, 0.05 |F_ref vector|,
-// 0.005 Fz); Mz relative to max(|Mz_ref|, a times that force floor); W_r relative; fractions absolute.
+// Error scales: tread_wear/core/solver_errors.h (F relative to max(|F_ref|, 0.05 |F_ref vector|,
+// 0.005 Fz); Mz relative to max(|Mz_ref|, a times that force floor); W_r relative; fractions absolute).
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 
+#include "tread_wear/core/solver_errors.h"
 #include "tread_wear/core/units.h"
 #include "tread_wear/core/wear_model.h"
 
@@ -70,16 +71,16 @@ void checkPreset(Preset preset, const std::vector<Case>& cases, const Bounds& bo
     WearResult r0, r;
     ref.evaluate(c.op, &r0);
     model.evaluate(c.op, &r);
-    const double f_floor = std::max(0.05 * std::hypot(r0.fx_n, r0.fy_n), 0.005 * c.op.load_n);
+    const SolverErrors e = solverErrors(r0, r, c.op.load_n);
     const std::string where = std::string(presetName(preset)) + " at Fz=" + std::to_string(c.op.load_n) +
                               " alpha=" + std::to_string(c.op.slip_angle_rad) + " kappa=" + std::to_string(c.op.slip_ratio) +
                               " V=" + std::to_string(c.op.speed_mps) + " c=" + std::to_string(c.op.path_curvature_per_m);
-    EXPECT_LE(std::fabs(r.fx_n - r0.fx_n) / std::max(std::fabs(r0.fx_n), f_floor), bounds.force) << where;
-    EXPECT_LE(std::fabs(r.fy_n - r0.fy_n) / std::max(std::fabs(r0.fy_n), f_floor), bounds.force) << where;
-    EXPECT_LE(std::fabs(r.mz_nm - r0.mz_nm) / std::max(std::fabs(r0.mz_nm), r0.half_length_m * f_floor), bounds.mz) << where;
-    EXPECT_LE(std::fabs(r.wear_rate_kg_per_m / r0.wear_rate_kg_per_m - 1.0), bounds.wear) << where;
-    EXPECT_LE(std::fabs(r.stick_fraction - r0.stick_fraction), bounds.fraction) << where;
-    EXPECT_LE(std::fabs(r.exact_stick_fraction - r0.exact_stick_fraction), bounds.fraction) << where;
+    EXPECT_LE(e.fx, bounds.force) << where;
+    EXPECT_LE(e.fy, bounds.force) << where;
+    EXPECT_LE(e.mz, bounds.mz) << where;
+    EXPECT_LE(e.wear, bounds.wear) << where;
+    EXPECT_LE(e.stick, bounds.fraction) << where;
+    EXPECT_LE(e.exact_stick, bounds.fraction) << where;
   }
 }
 

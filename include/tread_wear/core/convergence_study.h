@@ -6,11 +6,16 @@
 /// chosen settings and at coarser ones, and the marcher (brush_wear_model.h) on a ladder of grids,
 /// all against the reference solver refined 4x in strips with its tolerance divided by 100.
 /// Prints Markdown tables (docs/convergence.md). Not for the real-time path: a study takes ~1 min.
+/// Also, at one operating point, the marcher's convergence in x alone (lateral grid fixed): the order of
+/// the x discretisation (variable-step BDF2 along the element path, trapezoid rule in x) and how many x
+/// steps a condition needs.
 
 #include <ostream>
 #include <vector>
 
+#include "tread_wear/core/brush_wear_model.h"
 #include "tread_wear/core/operating_point.h"
+#include "tread_wear/core/solver_errors.h"
 
 namespace tread_wear {
 
@@ -18,7 +23,20 @@ namespace tread_wear {
 /// speed v0, slip angle -alpha, path curvature +1/0.060 m.
 std::vector<OperatingPoint> table3RigConditions();
 
+/// One rung of an x-convergence ladder: the marcher on n_x_steps against the finest x grid.
+struct XConvergenceRow {
+  int n_x_steps = 0;
+  WearResult result;
+  SolverErrors errors;  ///< against reference_n_x_steps, same lateral grid (solver_errors.h)
+};
+
+/// The marcher at `op` on each x grid of `ladder` and on `reference_n_x_steps`, everything else as in
+/// `options` (lateral grid, grading, passes, tolerance). @throw std::invalid_argument on invalid options.
+std::vector<XConvergenceRow> xConvergence(const TireParams& params, BrushOptions options, const OperatingPoint& op,
+                                          const std::vector<int>& ladder, int reference_n_x_steps);
+
 /// tread_wear_convergence [--params FILE] [--orientation literal|flipped|both] [--quick] [--extended]
+///                        [--point FZ_N,ALPHA_DEG,KAPPA,V_MPS,CURVATURE_PER_M [--strips N] [--grading G]]
 /// Returns 0 on success, 2 on a usage error (message on err).
 int runConvergenceCli(int argc, const char* const argv[], std::ostream& out, std::ostream& err);
 
