@@ -21,7 +21,6 @@ namespace tread_wear {
 namespace {
 
 constexpr int kExitData = 1;
-constexpr int kExitUsage = 2;
 
 const char* const kCalibrateUsage =
     "usage: tread_wear_calibrate --params FILE --runs RUNS.csv [--fit NAMES] [--target T]\n"
@@ -54,11 +53,6 @@ const char* const kReferenceUsage =
     "only if every run has a tread temperature) fitted on error ratios with leave-one-condition-out RMSER;\n"
     "writes DIR/table5.md and DIR/table5.json (default docs/figures).\n";
 
-int usageError(std::ostream& err, const std::string& message, const char* usage) {
-  err << "error: " << message << "\n" << usage;
-  return kExitUsage;
-}
-
 std::string percent(double fraction) {
   if (!std::isfinite(fraction)) return "-";
   char buffer[32];
@@ -75,35 +69,35 @@ int runCalibrateCli(int argc, const char* const argv[], std::ostream& out, std::
                  {"params", "runs", "fit", "target", "orientation", "prior-weight", "fy-weight", "wear-weight", "grid",
                   "json", "out-params"},
                  {"no-cv"}, &error))
-    return usageError(err, error, kCalibrateUsage);
+    return usageError(err, "error", error, kCalibrateUsage);
   if (args.help()) {
     out << kCalibrateUsage;
     return 0;
   }
   for (const char* required : {"params", "runs", "json"})
     if (!args.has(required))
-      return usageError(err, std::string("--") + required + " is required", kCalibrateUsage);
+      return usageError(err, "error", std::string("--") + required + " is required", kCalibrateUsage);
 
   CalibrationOptions options;
   try {
     if (args.has("fit")) options.fit = parseParameterList(args.get("fit"));
   } catch (const std::invalid_argument& e) {
-    return usageError(err, std::string("--fit: ") + e.what(), kCalibrateUsage);
+    return usageError(err, "error", std::string("--fit: ") + e.what(), kCalibrateUsage);
   }
   if (args.has("target") && !parseTarget(args.get("target"), &options.target))
-    return usageError(err, "--target must be auto, side_force, wear or both", kCalibrateUsage);
+    return usageError(err, "error", "--target must be auto, side_force, wear or both", kCalibrateUsage);
   if (args.has("orientation") && !parseOrientation(args.get("orientation"), &options.orientation))
-    return usageError(err, "--orientation must be literal or flipped, not '" + args.get("orientation") + "'",
+    return usageError(err, "error", "--orientation must be literal or flipped, not '" + args.get("orientation") + "'",
                       kCalibrateUsage);
   const std::pair<const char*, double*> numbers[] = {{"prior-weight", &options.prior_weight},
                                                      {"fy-weight", &options.side_force_weight},
                                                      {"wear-weight", &options.wear_weight}};
   for (const auto& [name, target] : numbers)
-    if (!args.number(name, target, &error)) return usageError(err, error, kCalibrateUsage);
+    if (!args.number(name, target, &error)) return usageError(err, "error", error, kCalibrateUsage);
   if (args.has("grid") && !parseGridSize(args.get("grid"), &options.grid.n_x_steps, &options.grid.n_strips))
-    return usageError(err, "--grid must be NX,NY (for example 400,24)", kCalibrateUsage);
+    return usageError(err, "error", "--grid must be NX,NY (for example 400,24)", kCalibrateUsage);
   options.cross_validate = !args.has("no-cv");
-  if (!options.validate(&error)) return usageError(err, error, kCalibrateUsage);
+  if (!options.validate(&error)) return usageError(err, "error", error, kCalibrateUsage);
 
   try {
     const TireParams initial = loadTireParams(args.get("params"));
@@ -163,16 +157,16 @@ int runWearCharacteristicsCli(int argc, const char* const argv[], std::ostream& 
   CommandLine args;
   std::string error;
   if (!args.parse(argc, argv, {"params", "orientation", "out-dir"}, {}, &error))
-    return usageError(err, error, kCharacteristicsUsage);
+    return usageError(err, "error", error, kCharacteristicsUsage);
   if (args.help()) {
     out << kCharacteristicsUsage;
     return 0;
   }
-  if (!args.has("params")) return usageError(err, "--params is required", kCharacteristicsUsage);
+  if (!args.has("params")) return usageError(err, "error", "--params is required", kCharacteristicsUsage);
   CharacteristicsOptions options;
   if (args.has("orientation") &&
       !parseOrientation(args.get("orientation"), &options.brush.orientation))
-    return usageError(err, "--orientation must be literal or flipped", kCharacteristicsUsage);
+    return usageError(err, "error", "--orientation must be literal or flipped", kCharacteristicsUsage);
   const std::string dir = args.get("out-dir", "docs/figures");
   try {
     const TireParams params = loadTireParams(args.get("params"));
@@ -204,19 +198,19 @@ int runReferenceModelsCli(int argc, const char* const argv[], std::ostream& out,
   CommandLine args;
   std::string error;
   if (!args.parse(argc, argv, {"params", "runs", "orientation", "grid", "out-dir"}, {}, &error))
-    return usageError(err, error, kReferenceUsage);
+    return usageError(err, "error", error, kReferenceUsage);
   if (args.help()) {
     out << kReferenceUsage;
     return 0;
   }
   for (const char* required : {"params", "runs"})
     if (!args.has(required))
-      return usageError(err, std::string("--") + required + " is required", kReferenceUsage);
+      return usageError(err, "error", std::string("--") + required + " is required", kReferenceUsage);
   CalibrationOptions opt_options;
   if (args.has("orientation") && !parseOrientation(args.get("orientation"), &opt_options.orientation))
-    return usageError(err, "--orientation must be literal or flipped", kReferenceUsage);
+    return usageError(err, "error", "--orientation must be literal or flipped", kReferenceUsage);
   if (args.has("grid") && !parseGridSize(args.get("grid"), &opt_options.grid.n_x_steps, &opt_options.grid.n_strips))
-    return usageError(err, "--grid must be NX,NY (for example 200,16)", kReferenceUsage);
+    return usageError(err, "error", "--grid must be NX,NY (for example 200,16)", kReferenceUsage);
   const std::string dir = args.get("out-dir", "docs/figures");
   try {
     const TireParams params = loadTireParams(args.get("params"));

@@ -23,7 +23,6 @@ namespace tread_wear {
 namespace {
 
 constexpr int kExitData = 1;
-constexpr int kExitUsage = 2;
 
 const char* const kEvalUsage =
     "usage: tread_wear_eval --params FILE [--orientation literal|flipped] [--preset fast|standard|reference]\n"
@@ -112,11 +111,6 @@ class PresetModel {
   std::unique_ptr<BrushWearModel> custom_;
 };
 
-int usageError(std::ostream& err, const std::string& message, const char* usage) {
-  err << "error: " << message << "\n" << usage;
-  return kExitUsage;
-}
-
 std::string fixed(double value, int decimals) {
   if (std::isnan(value)) return "-";
   char buffer[64];
@@ -130,27 +124,27 @@ int runEvalCli(int argc, const char* const argv[], std::istream& in, std::ostrea
   CommandLine args;
   std::string error;
   if (!args.parse(argc, argv, {"params", "orientation", "preset", "grid"}, {}, &error, 1))
-    return usageError(err, error, kEvalUsage);
+    return usageError(err, "error", error, kEvalUsage);
   if (args.help()) {
     out << kEvalUsage;
     return 0;
   }
-  if (!args.has("params")) return usageError(err, "--params FILE is required", kEvalUsage);
+  if (!args.has("params")) return usageError(err, "error", "--params FILE is required", kEvalUsage);
   if (args.positional().size() != 1)
-    return usageError(err, "give exactly one conditions file (or '-' for stdin)", kEvalUsage);
+    return usageError(err, "error", "give exactly one conditions file (or '-' for stdin)", kEvalUsage);
   WearModelOptions options;
   if (args.has("orientation") && !parseOrientation(args.get("orientation"), &options.orientation))
-    return usageError(err, "--orientation must be literal or flipped, not '" + args.get("orientation") + "'",
+    return usageError(err, "error", "--orientation must be literal or flipped, not '" + args.get("orientation") + "'",
                       kEvalUsage);
   if (args.has("preset") && !parsePreset(args.get("preset"), &options.preset))
-    return usageError(err, "--preset must be fast, standard or reference, not '" + args.get("preset") + "'",
+    return usageError(err, "error", "--preset must be fast, standard or reference, not '" + args.get("preset") + "'",
                       kEvalUsage);
   GridSpec grid = presetOptions(Preset::kReference).grid;
   const bool custom_grid = args.has("grid");
   if (custom_grid) {
-    if (args.has("preset")) return usageError(err, "give either --preset or --grid", kEvalUsage);
+    if (args.has("preset")) return usageError(err, "error", "give either --preset or --grid", kEvalUsage);
     if (!parseGridSize(args.get("grid"), &grid.n_x_steps, &grid.n_strips) || !grid.validate(&error))
-      return usageError(err, "--grid must be NXxNS with NX >= 4 x-steps and 1..256 strips, not '" +
+      return usageError(err, "error", "--grid must be NXxNS with NX >= 4 x-steps and 1..256 strips, not '" +
                                  args.get("grid") + "'", kEvalUsage);
   }
   try {
@@ -195,23 +189,23 @@ int runCompareCli(int argc, const char* const argv[], std::ostream& out, std::os
   CommandLine args;
   std::string error;
   if (!args.parse(argc, argv, {"params", "runs", "orientation", "preset", "csv"}, {}, &error))
-    return usageError(err, error, kCompareUsage);
+    return usageError(err, "error", error, kCompareUsage);
   if (args.help()) {
     out << kCompareUsage;
     return 0;
   }
   if (!args.has("params") || !args.has("runs"))
-    return usageError(err, "--params FILE and --runs FILE are required", kCompareUsage);
+    return usageError(err, "error", "--params FILE and --runs FILE are required", kCompareUsage);
   std::vector<TurnSlipOrientation> orientations = {TurnSlipOrientation::kLiteral, TurnSlipOrientation::kFlipped};
   if (args.has("orientation") && args.get("orientation") != "both") {
     TurnSlipOrientation o;
     if (!parseOrientation(args.get("orientation"), &o))
-      return usageError(err, "--orientation must be literal, flipped or both", kCompareUsage);
+      return usageError(err, "error", "--orientation must be literal, flipped or both", kCompareUsage);
     orientations = {o};
   }
   Preset preset = Preset::kReference;
   if (args.has("preset") && !parsePreset(args.get("preset"), &preset))
-    return usageError(err, "--preset must be fast, standard or reference", kCompareUsage);
+    return usageError(err, "error", "--preset must be fast, standard or reference", kCompareUsage);
   try {
     const TireParams params = loadTireParams(args.get("params"));
     const RunTable table = readRunTable(args.get("runs"));

@@ -64,4 +64,10 @@ std::vector<std::string> splitList(const std::string& text, char separator) {
   return items;
 }
 
+int usageError(std::ostream& err, const std::string& prefix, const std::string& message, const std::string& usage) {
+  if (!message.empty()) err << prefix << ": " << message << "\n";
+  err << usage;
+  return kExitUsage;
+}
+
 }  // namespace tread_wear

@@ -251,8 +251,7 @@ int runConvergenceCli(int argc, const char* const argv[], std::ostream& out, std
   CommandLine args;
   std::string error;
   if (!args.parse(argc, argv, {"params", "orientation", "point", "strips", "grading"}, {"quick", "extended"}, &error)) {
-    err << "tread_wear_convergence: " << error << "\n" << kUsage;
-    return 2;
+    return usageError(err, "tread_wear_convergence", error, kUsage);
   }
   if (args.help()) {
     out << kUsage;
@@ -261,8 +260,8 @@ int runConvergenceCli(int argc, const char* const argv[], std::ostream& out, std
   const std::string params_path = args.get("params"), orientation = args.get("orientation", "both");
   const bool quick = args.has("quick"), extended = args.has("extended");
   if (orientation != "literal" && orientation != "flipped" && orientation != "both") {
-    err << "tread_wear_convergence: --orientation " << orientation << ": must be literal, flipped or both\n";
-    return 2;
+    return usageError(err, "tread_wear_convergence", "--orientation " + orientation + ": must be literal, flipped or both",
+                      kUsage);
   }
   OperatingPoint point;
   BrushOptions x_options;  // the x study: a fine, fixed lateral grid and tight roots, no substeps
@@ -276,12 +275,10 @@ int runConvergenceCli(int argc, const char* const argv[], std::ostream& out, std
   if (x_study) {
     if (!parsePoint(args.get("point"), &point, &error) || !args.integer("strips", &x_options.grid.n_strips, &error) ||
         !args.number("grading", &x_options.grid.edge_grading, &error) || !x_options.validate(&error)) {
-      err << "tread_wear_convergence: " << error << "\n";
-      return 2;
+      return usageError(err, "tread_wear_convergence", error, kUsage);
     }
   } else if (args.has("strips") || args.has("grading")) {
-    err << "tread_wear_convergence: --strips and --grading belong to --point\n";
-    return 2;
+    return usageError(err, "tread_wear_convergence", "--strips and --grading belong to --point", kUsage);
   }
   try {
     const TireParams params = params_path.empty() ? TireParams() : loadTireParams(params_path);

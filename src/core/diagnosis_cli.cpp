@@ -40,11 +40,7 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
                {"params", "runs", "bag", "report", "orientation", "preset", "candidates", "max-terms",
                 "alpha-locate", "alpha-select", "seed", "plot-script"},
                {"no-plots"}, &parse_error);
-  auto usage = [&](const std::string& msg) {
-    if (!msg.empty()) err << "tread_wear_diagnose: " << msg << "\n";
-    err << kDiagnoseUsage;
-    return 2;
-  };
+  auto usage = [&](const std::string& msg) { return usageError(err, "tread_wear_diagnose", msg, kDiagnoseUsage); };
   if (a.help()) {
     out << kDiagnoseUsage;
     return 0;
@@ -135,11 +131,7 @@ int runConcealCli(int argc, const char* const argv[], std::ostream& out, std::os
                {"params", "effect", "runs", "answer", "magnitude", "design", "wear-noise", "force-noise",
                 "seed", "orientation", "preset"},
                {"list"}, &parse_error);
-  auto usage = [&](const std::string& msg) {
-    if (!msg.empty()) err << "tread_wear_conceal: " << msg << "\n";
-    err << usage_text;
-    return 2;
-  };
+  auto usage = [&](const std::string& msg) { return usageError(err, "tread_wear_conceal", msg, usage_text); };
   if (a.help()) {
     out << usage_text;
     return 0;
@@ -195,11 +187,7 @@ int runHarnessCli(int argc, const char* const argv[], std::ostream& out, std::os
   const bool parsed = a.parse(argc, argv,
                {"params", "design", "repeats", "controls", "effects", "noise", "jobs", "seed", "csv"},
                {"quick", "one-magnitude"}, &parse_error);
-  auto usage = [&](const std::string& msg) {
-    if (!msg.empty()) err << "tread_wear_diagnosis_harness: " << msg << "\n";
-    err << usage_text;
-    return 2;
-  };
+  auto usage = [&](const std::string& msg) { return usageError(err, "tread_wear_diagnosis_harness", msg, usage_text); };
   if (a.help()) {
     out << usage_text;
     return 0;

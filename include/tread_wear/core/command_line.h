@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <map>
+#include <ostream>
 #include <set>
 #include <string>
 #include <vector>
@@ -38,6 +39,13 @@ class CommandLine {
   std::vector<std::string> positional_;
   bool help_ = false;
 };
+
+/// Exit status of the tools for bad usage (unknown, missing or malformed options).
+constexpr int kExitUsage = 2;
+
+/// Writes "<prefix>: <message>" (no such line when message is empty), then the usage text, to err; returns
+/// kExitUsage. The one usage-error path of the tools.
+int usageError(std::ostream& err, const std::string& prefix, const std::string& message, const std::string& usage);
 
 /// A grid size "NXxNS" or "NX,NS" (x steps, lateral strips) of the tools' --grid options; nothing else.
 bool parseGridSize(const std::string& text, int* n_x_steps, int* n_strips);
