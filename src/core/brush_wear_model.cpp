@@ -240,6 +240,9 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
   const double w1 = wl.w1, w2 = wl.w2, w4 = wl.w4_kg_per_s_m2;
   const double ln_w3_over_mpa_w1 = std::log(w3) - w1 * std::log(units::kMegapascal);
   const double v_m = fr.v_m_mps;
+  // Area indicators of a node: stick by the paper's Section 4 definition (|v_s| <= v_m), exact stick (v_s = 0).
+  auto sticks = [v_m](const NodeSolution& o) { return o.s <= v_m ? 1.0 : 0.0; };
+  auto exact = [](const NodeSolution& o) { return o.stuck ? 1.0 : 0.0; };
   // ln|v_s| below which w3 (|tau|/1 MPa)^w1 |v_s|^w2 < 1e-9 w4 for any |tau| <= 100 MPa.
   const double z_wear_cut = w4 > 0.0 ? (std::log(1e-9 * w4) - ln_w3_over_mpa_w1 - w1 * std::log(100e6)) / w2
                                      : -std::numeric_limits<double>::infinity();
@@ -451,7 +454,7 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
         const double last_ds = refined_step[j] == i - 1 ? substep_ds[j] : (i > 0 ? xg.steps[i - 1].ds : 0.0);
         const double w_in = last_ds > 0.0 ? dss / last_ds : 0.0;
         const NodeSolution at_i = nodeOf(*prev_nodes, j), coarse_o = o;
-        const double stick_at_i = at_i.s <= v_m ? 1.0 : 0.0, exact_at_i = at_i.stuck ? 1.0 : 0.0;
+        const double stick_at_i = sticks(at_i), exact_at_i = exact(at_i);
         double tx0 = at_i.tx, ty0 = at_i.ty, wt0 = at_i.wt, st0 = stick_at_i, ex0 = exact_at_i, x0 = a * xg.s[i];
         double ifx = 0.0, ify = 0.0, imz = 0.0, iw = 0.0, ist = 0.0, iex = 0.0;
         const march::StepTerms first = stepTerms(dss, bdf2Coefficients(w_in), w_in);
@@ -467,7 +470,7 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
                                         {x_k, px_k, sat_k}, 0.0, nullptr};
           march::advanceScalar(substep, j, 1, k == 1 ? *el : *next, next, nodes, &root_counts);
           o = nodeOf(*nodes, j);
-          const double st1 = o.s <= v_m ? 1.0 : 0.0, ex1 = o.stuck ? 1.0 : 0.0;
+          const double st1 = sticks(o), ex1 = exact(o);
           ifx += 0.5 * dss * (tx0 + o.tx);
           ify += 0.5 * dss * (ty0 + o.ty);
           imz += 0.5 * dss * (x0 * ty0 - y_mz * tx0 + x_k * o.ty - y_mz * o.tx);
@@ -480,7 +483,7 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
         }
         edge_ds = dss;
         const double hds = 0.5 * sp.ds;
-        const double st1 = o.s <= v_m ? 1.0 : 0.0, ex1 = o.stuck ? 1.0 : 0.0;
+        const double st1 = sticks(o), ex1 = exact(o);
         cfx += w * (ifx - hds * (at_i.tx + o.tx));
         cfy += w * (ify - hds * (at_i.ty + o.ty));
         cmz += w * (imz - hds * (a * xg.s[i] * at_i.ty - y_mz * at_i.tx + x * o.ty - y_mz * o.tx));
@@ -492,8 +495,8 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
         fy_i += w * (o.ty - coarse_o.ty);
         mz_y += w * y_mz * (o.tx - coarse_o.tx);
         wear_i += w * (o.wt - coarse_o.wt);
-        stick_i += w * (st1 - (coarse_o.s <= v_m ? 1.0 : 0.0));
-        exact_i += w * (ex1 - (coarse_o.stuck ? 1.0 : 0.0));
+        stick_i += w * (st1 - sticks(coarse_o));
+        exact_i += w * (ex1 - exact(coarse_o));
         refined_step[j] = i;
         substep_ds[j] = dss;
         ++n_refined;
