@@ -33,7 +33,8 @@ const char* const kUsage =
     "                    instead: the marcher's convergence in x alone at this operating point (x steps\n"
     "                    30 ... 1920 against 6400, lateral grid fixed, no substeps), with the observed order\n"
     "  --strips N        lateral strips of --point, shoulder panels (default 24)\n"
-    "  --grading G       edge grading of --point's x grids, in [0, 1) (default 0.9)\n";
+    "  --grading G       edge grading of --point's x grids, in [0, 1) (default 0.9)\n"
+    "                    (--point takes --orientation literal or flipped; both means literal)\n";
 
 struct Sample {
   std::vector<WearResult> results;
@@ -227,6 +228,17 @@ std::vector<OperatingPoint> table3RigConditions() {
   return points;
 }
 
+BrushOptions xConvergenceOptions() {
+  BrushOptions o;
+  o.grid.lateral_rule = LateralRule::kGaussShoulderPanels;
+  o.grid.n_strips = 24;
+  o.grid.edge_grading = 0.9;
+  o.turn_slip_iterations = 4;
+  o.root_tolerance = 1e-8;
+  o.max_root_iterations = 80;
+  return o;
+}
+
 std::vector<XConvergenceRow> xConvergence(const TireParams& params, BrushOptions options, const OperatingPoint& op,
                                           const std::vector<int>& ladder, int reference_n_x_steps) {
   auto evaluate = [&](int n_x_steps) {
@@ -264,19 +276,15 @@ int runConvergenceCli(int argc, const char* const argv[], std::ostream& out, std
                       kUsage);
   }
   OperatingPoint point;
-  BrushOptions x_options;  // the x study: a fine, fixed lateral grid and tight roots, no substeps
-  x_options.grid.lateral_rule = LateralRule::kGaussShoulderPanels;
-  x_options.grid.n_strips = 24;
-  x_options.grid.edge_grading = 0.9;
-  x_options.turn_slip_iterations = 4;
-  x_options.root_tolerance = 1e-8;
-  x_options.max_root_iterations = 80;
+  BrushOptions x_options = xConvergenceOptions();
   const bool x_study = args.has("point");
   if (x_study) {
     if (!parsePoint(args.get("point"), &point, &error) || !args.integer("strips", &x_options.grid.n_strips, &error) ||
         !args.number("grading", &x_options.grid.edge_grading, &error) || !x_options.validate(&error)) {
       return usageError(err, "tread_wear_convergence", error, kUsage);
     }
+    if (quick || extended)
+      return usageError(err, "tread_wear_convergence", "--quick and --extended belong to the rig study, not --point", kUsage);
   } else if (args.has("strips") || args.has("grading")) {
     return usageError(err, "tread_wear_convergence", "--strips and --grading belong to --point", kUsage);
   }

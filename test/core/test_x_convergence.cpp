@@ -14,17 +14,6 @@
 namespace tread_wear {
 namespace {
 
-BrushOptions fixedLateralGrid() {
-  BrushOptions o;
-  o.grid.n_strips = 24;
-  o.grid.lateral_rule = LateralRule::kGaussShoulderPanels;
-  o.grid.edge_grading = 0.9;
-  o.turn_slip_iterations = 4;
-  o.root_tolerance = 1e-8;
-  o.max_root_iterations = 80;
-  return o;
-}
-
 OperatingPoint point(double load_n, double alpha_deg, double kappa, double speed_mps, double curvature_per_m) {
   OperatingPoint op;
   op.load_n = load_n;
@@ -37,7 +26,7 @@ OperatingPoint point(double load_n, double alpha_deg, double kappa, double speed
 
 // Observed order log2(e(n) / e(2n)) on the rungs 240 -> 480 -> 960 (10-60 steps per natural period here).
 void expectSecondOrder(const OperatingPoint& op, double SolverErrors::*output, const char* name) {
-  const auto rows = xConvergence(TireParams(), fixedLateralGrid(), op, {240, 480, 960}, 6400);
+  const auto rows = xConvergence(TireParams(), xConvergenceOptions(), op, {240, 480, 960}, 6400);
   for (size_t k = 1; k < rows.size(); ++k) {
     const double order = std::log2(rows[k - 1].errors.*output / (rows[k].errors.*output));
     EXPECT_GT(order, 1.6) << name << " from " << rows[k - 1].n_x_steps << " to " << rows[k].n_x_steps << " x steps";
@@ -70,6 +59,7 @@ TEST(XConvergence, CliRejectsBadPoints) {
         {"tread_wear_convergence", "--point", "-50,6,0,5,0"},
         {"tread_wear_convergence", "--point", "50,6,0,5,0", "--strips", "0"},
         {"tread_wear_convergence", "--point", "50,6,0,5,0", "--grading", "1"},
+        {"tread_wear_convergence", "--point", "50,6,0,5,0", "--quick"},
         {"tread_wear_convergence", "--strips", "12"}}) {
     std::ostringstream out, err;
     EXPECT_EQ(runConvergenceCli(static_cast<int>(args.size()), args.data(), out, err), 2) << args[2];

@@ -30,6 +30,10 @@ struct XConvergenceRow {
   SolverErrors errors;  ///< against reference_n_x_steps, same lateral grid (solver_errors.h)
 };
 
+/// Options of the x study: 24 shoulder-panel strips, edge grading 0.9, 4 turn-slip passes, root tolerance
+/// 1e-8, no substeps (the lateral grid fixed and fine, so that the x error is what is measured).
+BrushOptions xConvergenceOptions();
+
 /// The marcher at `op` on each x grid of `ladder` and on `reference_n_x_steps`, everything else as in
 /// `options` (lateral grid, grading, passes, tolerance). @throw std::invalid_argument on invalid options.
 std::vector<XConvergenceRow> xConvergence(const TireParams& params, BrushOptions options, const OperatingPoint& op,
