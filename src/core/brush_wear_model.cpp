@@ -110,6 +110,7 @@ BrushWearModel::BrushWearModel(const TireParams& params, const BrushOptions& opt
     : params_(params),
       options_(options),
       friction_(params.friction),
+      shift_saturation_(params.friction.q),
       advance_(march::fastestAdvance(options.max_simd_lanes)) {
   std::string error;
   if (!params.validate(&error)) throw std::invalid_argument("invalid tire parameters: " + error);
@@ -183,7 +184,11 @@ BrushWearModel::XGrid BrushWearModel::makeXGrid(double leading_grading) const {
     g.steps[i] = Step{ds, c.a1, c.a2, c.beta, i > 0 ? w : 1.0};
   }
   g.gx_even.resize(n + 1);
-  for (int i = 0; i <= n; ++i) g.gx_even[i] = gx_.even(g.s[i]);
+  g.sat_gx.resize(n + 1);
+  for (int i = 0; i <= n; ++i) {
+    g.gx_even[i] = gx_.even(g.s[i]);
+    g.sat_gx[i] = g.gx_even[i] > 0.0 ? std::pow(g.gx_even[i], -params_.friction.q) : 0.0;
+  }
   return g;
 }
 
@@ -370,11 +375,32 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
     return t;
   };
 
-  // Pressure factor p / g_y [Pa] and the x factor of sat(p) at node coordinate s = x/a.
+  // Pressure factor p / g_y [Pa] and the x factor of sat(p) at node coordinate s = x/a (between grid nodes).
   auto pressureX = [&](double s, double gx_even, double* sat_x) {
     const double px = std::max(0.0, p_scale * gx_even * (1.0 - Bx * s));
     *sat_x = px > 0.0 ? std::pow(px / fr.p_ref_pa, -fr.q) : 0.0;
     return px;
+  };
+  // The same at grid node i, where (p/p_ref)^-q separates into this evaluation's scale, the grid's gx_even^-q
+  // and the centre shift's (1 - Bx s)^-q (a short series, no pow). Computed for a chunk of nodes at a time,
+  // so that the independent series of the nodes overlap instead of each waiting in the x step's chain.
+  const double sat_scale = std::pow(p_scale / fr.p_ref_pa, -fr.q);
+  constexpr int kNodeChunk = 64;
+  double chunk_px[kNodeChunk], chunk_sat[kNodeChunk];
+  int chunk_first = -kNodeChunk;
+  const int shift_terms = shift_saturation_.terms(std::fabs(Bx));  // |Bx s| <= |Bx| on the patch
+  auto pressureAtNode = [&](int i, double* sat_x) {
+    if (i >= chunk_first + kNodeChunk) {
+      chunk_first = i;
+      const int count = std::min(kNodeChunk, n + 1 - i);
+      for (int k = 0; k < count; ++k) {
+        const double s = xg.s[i + k];
+        chunk_px[k] = std::max(0.0, p_scale * xg.gx_even[i + k] * (1.0 - Bx * s));
+        chunk_sat[k] = chunk_px[k] > 0.0 ? sat_scale * xg.sat_gx[i + k] * shift_saturation_(Bx * s, shift_terms) : 0.0;
+      }
+    }
+    *sat_x = chunk_sat[i - chunk_first];
+    return chunk_px[i - chunk_first];
   };
 
   {  // Leading edge: p = 0, no friction; the element slips at u - v_r.
@@ -404,7 +430,7 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
     const double h = a * sp.ds / Vr;  // step duration [s]
     const double x = a * xg.s[i + 1];
     double sat_x;
-    const double px = pressureX(xg.s[i + 1], xg.gx_even[i + 1], &sat_x);
+    const double px = pressureAtNode(i + 1, &sat_x);
     const double wxa = xg.wx[i + 1] * a * b;
     const bool edge_step = i == 0 || i == n - 1;
     // All strips advance to node i + 1 together; a step is then redone in substeps strip by strip.

@@ -55,4 +55,18 @@ double slidingStabilityMargin(const TireParams& params, double load_n) {
   return weakening > 0.0 ? damping / weakening : std::numeric_limits<double>::infinity();
 }
 
+ShiftSaturation::ShiftSaturation(double q) : q_(q) {
+  c_[0] = 1.0;
+  for (int k = 1; k < kMaxTerms; ++k) c_[k] = c_[k - 1] * (q + k - 1.0) / k;
+}
+
+int ShiftSaturation::terms(double max_abs_u) const {
+  constexpr double kTruncation = 1e-17;  // relative, below a double's rounding
+  if (!(max_abs_u <= kSeriesLimit)) return 0;
+  if (max_abs_u == 0.0) return 1;
+  // Smallest n with max_abs_u^n / (1 - max_abs_u) <= kTruncation (kMaxTerms covers kSeriesLimit).
+  const double n = std::ceil(std::log(kTruncation * (1.0 - max_abs_u)) / std::log(max_abs_u));
+  return std::min(kMaxTerms, std::max(1, static_cast<int>(n)));
+}
+
 }  // namespace tread_wear

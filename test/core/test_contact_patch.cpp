@@ -1,9 +1,11 @@
-// Pressure field (paper Eqs 6-9): the three moment conditions of Eq 9 hold to quadrature accuracy.
+// Pressure field (paper Eqs 6-9): the three moment conditions of Eq 9 hold to quadrature accuracy; the centre
+// shift's factor of sat(p) (Eq 11) that the marcher sums as a series agrees with std::pow.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "tread_wear/core/contact_patch.h"
+#include "tread_wear/core/friction.h"
 
 namespace tread_wear {
 namespace {
@@ -78,6 +80,36 @@ TEST(ContactPatch, ValidationNamesTheField) {
   EXPECT_FALSE(fp.validate(&error));
   EXPECT_NE(error.find("footprint.b = -1"), std::string::npos) << error;
   EXPECT_NE(error.find("> 0"), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace tread_wear
+
+namespace tread_wear {
+namespace {
+
+// The centre shift's factor of sat(p), (1 - u)^-q, by its binomial series agrees with std::pow to rounding
+// over the range it serves, for exponents q across [0, 1); beyond kSeriesLimit it is std::pow itself.
+TEST(ShiftSaturation, SeriesAgreesWithPow) {
+  for (double q : {0.0, 0.14, 0.5, 0.99}) {
+    const ShiftSaturation shift(q);
+    for (double max_abs_u : {0.0, 1e-3, 0.07, 0.12, ShiftSaturation::kSeriesLimit}) {
+      const int terms = shift.terms(max_abs_u);
+      ASSERT_GE(terms, 1);
+      ASSERT_LE(terms, ShiftSaturation::kMaxTerms);
+      for (int k = -50; k <= 50; ++k) {
+        const double u = max_abs_u * k / 50.0;
+        EXPECT_NEAR(shift(u, terms) / std::pow(1.0 - u, -q), 1.0, 4e-16) << "q " << q << " u " << u;
+      }
+    }
+    EXPECT_EQ(shift.terms(0.3), 0);
+    EXPECT_EQ(shift(0.3, 0), std::pow(0.7, -q));
+    EXPECT_EQ(shift(-0.6, 0), std::pow(1.6, -q));
+  }
+  // Fewer terms for a smaller shift: the series is cut where its remainder is below rounding.
+  const ShiftSaturation shift(0.14);
+  EXPECT_LT(shift.terms(0.07), shift.terms(0.12));
+  EXPECT_LT(shift.terms(0.12), shift.terms(0.25));
 }
 
 }  // namespace

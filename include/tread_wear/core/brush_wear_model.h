@@ -214,6 +214,7 @@ class BrushWearModel {
     std::vector<double> s;        ///< mapped node coordinate x/a, from +1 to -1
     std::vector<double> wx;       ///< trapezoid weight in x/a
     std::vector<double> gx_even;  ///< even part of g_x at the nodes
+    std::vector<double> sat_gx;   ///< gx_even^-q at the nodes, 0 where gx_even = 0 (x factor of sat(p), Eq 11)
     std::vector<Step> steps;      ///< per-step BDF2 coefficients
   };
   XGrid makeXGrid(double leading_grading) const;
@@ -233,6 +234,7 @@ class BrushWearModel {
   TireParams params_;
   BrushOptions options_;
   SavkoorFriction friction_;
+  ShiftSaturation shift_saturation_;  ///< (1 - B x/a)^-q, the centre shift's factor of sat(p)
   PressureShape gx_;               ///< g_x without the centre shift (its even part)
   XGrid x_grid_;                   ///< edge_grading at both edges
   XGrid entry_x_grid_;             ///< entry_grading at the leading edge (when the entry grid is on)

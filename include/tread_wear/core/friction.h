@@ -9,6 +9,10 @@
 /// Friction opposes slip (model spec: Eq 18 as printed has a sign slip).
 /// Limits: no temperature, humidity or surface-state dependence (see the mismatch diagnosis library).
 
+#include <array>
+#include <cmath>
+#include <cstddef>
+
 #include "tread_wear/core/tire_params.h"
 
 namespace tread_wear {
@@ -35,6 +39,34 @@ class SavkoorFriction {
  private:
   FrictionParams params_;
   double h2_over_ln10sq_ = 0.0;  ///< h^2 / ln(10)^2, so that h^2 log10^2(r) = this * ln^2(r)
+};
+
+/// (1 - u)^-q [-], the factor of sat(p) (Eq 11) that a pressure centre shift contributes where p separates as
+/// p = p_even (1 - B x/a) (Eq 9): the marcher needs it at every x node of every evaluation (|B| is 0.07-0.12 on
+/// the Grosch wheel at 150-50 N). For |u| <= kSeriesLimit it sums the binomial series sum_k c_k u^k, c_0 = 1,
+/// c_k = c_{k-1} (q + k - 1)/k, by Horner to as many terms as |u| needs: with q in [0, 1) every c_k <= 1, so
+/// n terms leave less than |u|^n / (1 - |u|) relative, and terms() keeps that below 1e-17. No pow is called
+/// (16-20 multiply-adds for |u| of 0.07-0.12). Beyond kSeriesLimit, std::pow. Requires u < 1.
+class ShiftSaturation {
+ public:
+  static constexpr double kSeriesLimit = 0.25;
+  static constexpr int kMaxTerms = 31;  ///< enough for |u| <= kSeriesLimit
+  ShiftSaturation() : ShiftSaturation(0.0) {}
+  explicit ShiftSaturation(double q);
+
+  /// Series terms for every |u| <= max_abs_u [-]; 0 (std::pow) when max_abs_u > kSeriesLimit.
+  int terms(double max_abs_u) const;
+  /// (1 - u)^-q for |u| <= the max_abs_u that `terms` was chosen for.
+  double operator()(double u, int terms) const {
+    if (terms == 0) return std::pow(1.0 - u, -q_);
+    double sum = c_[terms - 1];
+    for (int k = terms - 1; k-- > 0;) sum = sum * u + c_[k];
+    return sum;
+  }
+
+ private:
+  double q_ = 0.0;
+  std::array<double, kMaxTerms> c_{};  ///< binomial series coefficients of (1 - u)^-q
 };
 
 /// Stability margin of steady sliding at vertical load Fz [N] (model spec, "Numerics"):
