@@ -109,6 +109,30 @@ struct NodeLanes {
   alignas(64) double refine_rate[kCapacity];
 };
 
+/// The path state and node solution of one strip, set aside while a range of strips before it is redone in
+/// substeps: a pack that runs past the range's last strip writes the next strips' lanes too.
+struct LaneCopy {
+  double state[12];
+  double node[12];
+};
+
+inline constexpr double (PathState::*kStateFields[12])[kCapacity] = {
+    &PathState::dlx, &PathState::dly, &PathState::ux,    &PathState::uy, &PathState::dlx_p,   &PathState::dly_p,
+    &PathState::ux_p, &PathState::uy_p, &PathState::z, &PathState::z_p, &PathState::sliding, &PathState::sliding_p};
+inline constexpr double (NodeLanes::*kNodeFields[12])[kCapacity] = {
+    &NodeLanes::p, &NodeLanes::tx,  &NodeLanes::ty,  &NodeLanes::vsx, &NodeLanes::vsy,   &NodeLanes::s,
+    &NodeLanes::z, &NodeLanes::mup, &NodeLanes::s_dmup, &NodeLanes::wt, &NodeLanes::stuck, &NodeLanes::refine_rate};
+
+inline void saveLane(const PathState& state, const NodeLanes& nodes, int j, LaneCopy* copy) {
+  for (int f = 0; f < 12; ++f) copy->state[f] = (state.*kStateFields[f])[j];
+  for (int f = 0; f < 12; ++f) copy->node[f] = (nodes.*kNodeFields[f])[j];
+}
+
+inline void restoreLane(const LaneCopy& copy, int j, PathState* state, NodeLanes* nodes) {
+  for (int f = 0; f < 12; ++f) (state->*kStateFields[f])[j] = copy.state[f];
+  for (int f = 0; f < 12; ++f) (nodes->*kNodeFields[f])[j] = copy.node[f];
+}
+
 /// Quadrature sums over the nodes of the evaluation (Eq 20), per lane (added up by the caller at the end).
 struct PatchSums {
   double fx[kMaxLanes], fy[kMaxLanes];  ///< sum of dA tau [N]
@@ -148,7 +172,7 @@ struct StepArgs {
 using AdvanceFunction = void (*)(const StepArgs& args, int first, int count, const PathState& from, PathState* to,
                                  NodeLanes* out, RootCounts* counts);
 
-/// One strip after the other (any machine; also the substeps).
+/// One strip after the other (any machine).
 void advanceScalar(const StepArgs& args, int first, int count, const PathState& from, PathState* to, NodeLanes* out,
                    RootCounts* counts);
 

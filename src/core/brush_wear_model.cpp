@@ -314,6 +314,7 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
   // number of strips redone in the previous step.
   int refined_step[GridSpec::kMaxStrips];
   double substep_ds[GridSpec::kMaxStrips];
+  int level[GridSpec::kMaxStrips];  // of the current step: 2^level substeps, 0 where it stands
   int n_back = 0;
   // Per x step: step terms of strips coming back from substeps. The quadrature sums of the packs.
   march::StepTermLanes back;
@@ -433,7 +434,8 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
     const double px = pressureAtNode(i + 1, &sat_x);
     const double wxa = xg.wx[i + 1] * a * b;
     const bool edge_step = i == 0 || i == n - 1;
-    // All strips advance to node i + 1 together; a step is then redone in substeps strip by strip.
+    // All strips advance to node i + 1 together; then runs of neighbouring strips that need the same number of
+    // substeps redo the step together, in packs again.
     if (n_back > 0) {
       // After substeps the step ratio is 2^level; variable-step BDF2 is zero-stable only below
       // 1 + sqrt(2), so a larger jump restarts with one BDF1 step.
@@ -453,84 +455,107 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
     // change of the node value (weight wx) and of the corrections of their trapezoids (x/a units).
     double fx_i = 0.0, fy_i = 0.0, mz_y = 0.0, wear_i = 0.0, stick_i = 0.0, exact_i = 0.0;
     double cfx = 0.0, cfy = 0.0, cmz = 0.0, cwear = 0.0, cstick = 0.0, cexact = 0.0;
-    // Strips that need more than their node solution: steps redone in substeps, the edge wear, the fields.
-    const bool visit_all = edge_step || fields != nullptr;
+    // Substeps: per strip the smallest level L with rate h / 2^L <= resolution, within max_level and the
+    // node budget (spent in strip order); 0 where the step stands.
     int n_refined = 0;
     for (int j = 0; j < n_active; ++j) {
       const double rate = nodes->refine_rate[j];
-      if (!(rate > 0.0) && !visit_all) continue;
-      // Substeps: the smallest level L with rate h / 2^L <= resolution, within max_level and the budget.
-      int level = 0;
-      if (rate > 0.0 && refinement_budget > 0) {
-        const double r = rate * h / options_.refinement.resolution;
-        if (r > 1.0) level = std::min(max_level, static_cast<int>(std::ceil(std::log2(r))));
-        while (level > 0 && (1 << level) > refinement_budget) --level;  // never beyond the node budget
-      }
-      if (level == 0 && !visit_all) continue;
-      NodeSolution o = nodeOf(*nodes, j);
-      const double w = strip_constants.weight[j];
-      const double y_mz = strip_constants.y_mz[j];
-      double wt_lead = o.wt, wt_trail = prev_nodes->wt[j], edge_ds = sp.ds;  // wear next to an edge of the patch
-      if (level > 0) {
-        // Redo the step in 2^level equal substeps ending on the node; integrate the strip's outputs over
-        // them by the trapezoid rule and add the difference to the coarse trapezoid of this step.
-        const int k_sub = 1 << level;
-        refinement_budget -= k_sub;
-        const double dss = sp.ds / k_sub;
+      level[j] = 0;
+      if (!(rate > 0.0) || refinement_budget <= 0) continue;
+      const double r = rate * h / options_.refinement.resolution;
+      if (r > 1.0) level[j] = std::min(max_level, static_cast<int>(std::ceil(std::log2(r))));
+      while (level[j] > 0 && (1 << level[j]) > refinement_budget) --level[j];  // never beyond the node budget
+      refinement_budget -= level[j] > 0 ? 1 << level[j] : 0;
+    }
+    // Redo the step of strips [j0, j1) (one level L) in 2^L equal substeps ending on the node, in packs as the
+    // coarse step; integrate their outputs over the substeps by the trapezoid rule and add the difference to
+    // their coarse trapezoids, and replace their coarse node values in the node sums.
+    auto redoInSubsteps = [&](int j0, int j1, int level_of_run) {
+      const int k_sub = 1 << level_of_run;
+      const double dss = sp.ds / k_sub, hds = 0.5 * sp.ds, x_i = a * xg.s[i];
+      // A pack that runs past j1 also writes the lanes of the strips after the run: set them aside.
+      const int spill_end = std::min(j1 + march::kMaxLanes - 1, n_padded);
+      march::LaneCopy spill[march::kMaxLanes - 1];
+      for (int j = j1; j < spill_end; ++j) march::saveLane(*next, *nodes, j, &spill[j - j1]);
+      // The first substep's BDF2 coefficients follow each strip's last step (coarse, or substeps); the
+      // lanes past the run get any valid terms.
+      const march::StepTerms inner = stepTerms(dss, bdf2Coefficients(1.0), 1.0);
+      for (int j = j0; j < j1; ++j) {
         const double last_ds = refined_step[j] == i - 1 ? substep_ds[j] : (i > 0 ? xg.steps[i - 1].ds : 0.0);
         const double w_in = last_ds > 0.0 ? dss / last_ds : 0.0;
-        const NodeSolution at_i = nodeOf(*prev_nodes, j), coarse_o = o;
-        const double stick_at_i = sticks(at_i), exact_at_i = exact(at_i);
-        double tx0 = at_i.tx, ty0 = at_i.ty, wt0 = at_i.wt, st0 = stick_at_i, ex0 = exact_at_i, x0 = a * xg.s[i];
-        double ifx = 0.0, ify = 0.0, imz = 0.0, iw = 0.0, ist = 0.0, iex = 0.0;
-        const march::StepTerms first = stepTerms(dss, bdf2Coefficients(w_in), w_in);
-        const march::StepTerms inner = stepTerms(dss, bdf2Coefficients(1.0), 1.0);
-        for (int k = 1; k <= k_sub; ++k) {
-          const double s_k = xg.s[i] - k * dss;  // substep node x/a
-          double sat_k = sat_x, px_k = px, x_k = x;
-          if (k < k_sub) {
-            px_k = pressureX(s_k, gx_.even(s_k), &sat_k);
-            x_k = a * s_k;
-          }
-          const march::StepArgs substep{&constants, &strip_constants, k == 1 ? &first : &inner, nullptr,
-                                        {x_k, px_k, sat_k}, 0.0, nullptr};
-          march::advanceScalar(substep, j, 1, k == 1 ? *el : *next, next, nodes, &root_counts);
-          o = nodeOf(*nodes, j);
-          const double st1 = sticks(o), ex1 = exact(o);
-          ifx += 0.5 * dss * (tx0 + o.tx);
-          ify += 0.5 * dss * (ty0 + o.ty);
-          imz += 0.5 * dss * (x0 * ty0 - y_mz * tx0 + x_k * o.ty - y_mz * o.tx);
-          iw += 0.5 * dss * (wt0 + o.wt);
-          ist += 0.5 * dss * (st0 + st1);
-          iex += 0.5 * dss * (ex0 + ex1);
-          if (k == 1) wt_lead = o.wt;
-          if (k == k_sub) wt_trail = wt0;
-          tx0 = o.tx, ty0 = o.ty, wt0 = o.wt, st0 = st1, ex0 = ex1, x0 = x_k;
+        back.set(j, stepTerms(dss, bdf2Coefficients(w_in), w_in));
+      }
+      for (int j = j1; j < spill_end; ++j) back.set(j, inner);
+      for (int j = j0; j < j1; ++j) {
+        const NodeSolution coarse_o = nodeOf(*nodes, j);
+        const double w = strip_constants.weight[j], y_mz = strip_constants.y_mz[j];
+        fx_i -= w * coarse_o.tx;
+        fy_i -= w * coarse_o.ty;
+        mz_y -= w * y_mz * coarse_o.tx;
+        wear_i -= w * coarse_o.wt;
+        stick_i -= w * sticks(coarse_o);
+        exact_i -= w * exact(coarse_o);
+      }
+      for (int k = 1; k <= k_sub; ++k) {
+        const double s_k = xg.s[i] - k * dss;  // substep node x/a
+        double sat_k = sat_x, px_k = px, x_k = x;
+        if (k < k_sub) {
+          px_k = pressureX(s_k, gx_.even(s_k), &sat_k);
+          x_k = a * s_k;
         }
-        edge_ds = dss;
-        const double hds = 0.5 * sp.ds;
-        const double st1 = sticks(o), ex1 = exact(o);
-        cfx += w * (ifx - hds * (at_i.tx + o.tx));
-        cfy += w * (ify - hds * (at_i.ty + o.ty));
-        cmz += w * (imz - hds * (a * xg.s[i] * at_i.ty - y_mz * at_i.tx + x * o.ty - y_mz * o.tx));
-        cwear += w * (iw - hds * (at_i.wt + o.wt));
-        cstick += w * (ist - hds * (stick_at_i + st1));
-        cexact += w * (iex - hds * (exact_at_i + ex1));
-        // The node sums hold this strip's coarse solution at node i + 1: replace it by the substeps' one.
-        fx_i += w * (o.tx - coarse_o.tx);
-        fy_i += w * (o.ty - coarse_o.ty);
-        mz_y += w * y_mz * (o.tx - coarse_o.tx);
-        wear_i += w * (o.wt - coarse_o.wt);
-        stick_i += w * (st1 - sticks(coarse_o));
-        exact_i += w * (ex1 - exact(coarse_o));
+        const march::StepArgs substep{&constants, &strip_constants, &inner, k == 1 ? &back : nullptr,
+                                      {x_k, px_k, sat_k}, 0.0, nullptr};
+        advance_(substep, j0, j1 - j0, k == 1 ? *el : *next, next, nodes, &root_counts);
+        const double c = k < k_sub ? dss : 0.5 * dss;  // trapezoid weight of substep node k
+        for (int j = j0; j < j1; ++j) {
+          const NodeSolution o = nodeOf(*nodes, j);
+          const double w = strip_constants.weight[j], y_mz = strip_constants.y_mz[j];
+          cfx += w * c * o.tx;
+          cfy += w * c * o.ty;
+          cmz += w * c * (x_k * o.ty - y_mz * o.tx);
+          cwear += w * c * o.wt;
+          cstick += w * c * sticks(o);
+          cexact += w * c * exact(o);
+          // The sliding wear next to an edge of the patch (see the coarse case below), on the substep there.
+          if ((i == 0 && k == 1) || (i == n - 1 && k == k_sub - 1)) cwear += w * edge_weight * dss * (o.wt - w4);
+        }
+      }
+      for (int j = j0; j < j1; ++j) {
+        const NodeSolution at_i = nodeOf(*prev_nodes, j), o = nodeOf(*nodes, j);
+        const double w = strip_constants.weight[j], y_mz = strip_constants.y_mz[j];
+        const double mz_i = x_i * at_i.ty - y_mz * at_i.tx, mz_o = x * o.ty - y_mz * o.tx;
+        cfx += w * (0.5 * dss * at_i.tx - hds * (at_i.tx + o.tx));
+        cfy += w * (0.5 * dss * at_i.ty - hds * (at_i.ty + o.ty));
+        cmz += w * (0.5 * dss * mz_i - hds * (mz_i + mz_o));
+        cwear += w * (0.5 * dss * at_i.wt - hds * (at_i.wt + o.wt));
+        cstick += w * (0.5 * dss * sticks(at_i) - hds * (sticks(at_i) + sticks(o)));
+        cexact += w * (0.5 * dss * exact(at_i) - hds * (exact(at_i) + exact(o)));
+        fx_i += w * o.tx;
+        fy_i += w * o.ty;
+        mz_y += w * y_mz * o.tx;
+        wear_i += w * o.wt;
+        stick_i += w * sticks(o);
+        exact_i += w * exact(o);
         refined_step[j] = i;
         substep_ds[j] = dss;
-        ++n_refined;
       }
-      // p vanishes linearly at x = +-a, so the sliding wear ~ tau^w1 ~ p^w1 has an endpoint singularity
-      // there: on the interval next to an edge its integral is h f/(1 + w1), not the trapezoid's h f/2.
-      if (edge_step) cwear += w * edge_weight * edge_ds * ((i == 0 ? wt_lead : wt_trail) - w4);
-      if (fields) store(i + 1, j, o, *next);
+      for (int j = j1; j < spill_end; ++j) march::restoreLane(spill[j - j1], j, next, nodes);
+      n_refined += j1 - j0;
+    };
+    for (int j0 = 0, j1 = 0; j0 < n_active; j0 = j1) {
+      for (j1 = j0 + 1; j1 < n_active && level[j1] == level[j0];) ++j1;
+      if (level[j0] > 0) redoInSubsteps(j0, j1, level[j0]);
+    }
+    // Strips that need more than their node solution: the edge wear of the steps that stand, the fields.
+    if (edge_step || fields) {
+      for (int j = 0; j < n_active; ++j) {
+        const NodeSolution o = nodeOf(*nodes, j);
+        // p vanishes linearly at x = +-a, so the sliding wear ~ tau^w1 ~ p^w1 has an endpoint singularity
+        // there: on the interval next to an edge its integral is h f/(1 + w1), not the trapezoid's h f/2.
+        if (edge_step && level[j] == 0)
+          cwear += strip_constants.weight[j] * edge_weight * sp.ds * ((i == 0 ? o.wt : prev_nodes->wt[j]) - w4);
+        if (fields) store(i + 1, j, o, *next);
+      }
     }
     n_back = n_refined;
     std::swap(el, next);
