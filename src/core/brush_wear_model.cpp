@@ -213,6 +213,22 @@ struct NodeSolution {
   bool stuck;            ///< exact stick (v_s = 0)
 };
 
+/// Integrands of Eq 20 and of the area fractions at a node, or their weighted sums: tau_x, tau_y [Pa],
+/// x tau_y - y tau_x [Pa m], wear per time and area [kg/(s m^2)], the stick (|v_s| <= v_m) and exact-stick
+/// (v_s = 0) indicators [-].
+struct Integrands {
+  double fx = 0.0, fy = 0.0, mz = 0.0, wear = 0.0, stick = 0.0, exact = 0.0;
+
+  void add(double weight, const Integrands& v) {
+    fx += weight * v.fx;
+    fy += weight * v.fy;
+    mz += weight * v.mz;
+    wear += weight * v.wear;
+    stick += weight * v.stick;
+    exact += weight * v.exact;
+  }
+};
+
 NodeSolution nodeOf(const march::NodeLanes& n, int j) {
   return {n.p[j], n.tx[j], n.ty[j], n.vsx[j], n.vsy[j], n.s[j], n.z[j], n.mup[j], n.s_dmup[j], n.wt[j],
           n.stuck[j] != 0.0};
@@ -245,9 +261,11 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
   const double w1 = wl.w1, w2 = wl.w2, w4 = wl.w4_kg_per_s_m2;
   const double ln_w3_over_mpa_w1 = std::log(w3) - w1 * std::log(units::kMegapascal);
   const double v_m = fr.v_m_mps;
-  // Area indicators of a node: stick by the paper's Section 4 definition (|v_s| <= v_m), exact stick (v_s = 0).
-  auto sticks = [v_m](const NodeSolution& o) { return o.s <= v_m ? 1.0 : 0.0; };
-  auto exact = [](const NodeSolution& o) { return o.stuck ? 1.0 : 0.0; };
+  // The integrands of node solution o at x [m] on the strip with Mz lever arm y_mz [m]; stick by the paper's
+  // Section 4 definition (|v_s| <= v_m).
+  auto integrands = [v_m](const NodeSolution& o, double x, double y_mz) {
+    return Integrands{o.tx, o.ty, x * o.ty - y_mz * o.tx, o.wt, o.s <= v_m ? 1.0 : 0.0, o.stuck ? 1.0 : 0.0};
+  };
   // ln|v_s| below which w3 (|tau|/1 MPa)^w1 |v_s|^w2 < 1e-9 w4 for any |tau| <= 100 MPa.
   const double z_wear_cut = w4 > 0.0 ? (std::log(1e-9 * w4) - ln_w3_over_mpa_w1 - w1 * std::log(100e6)) / w2
                                      : -std::numeric_limits<double>::infinity();
@@ -338,7 +356,7 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
   for (int j = 0; j < n_active; ++j) refined_step[j] = -2;  // none
   march::RootCounts root_counts;
 
-  double fx = 0.0, fy = 0.0, mz = 0.0, wear_t = 0.0, stick_area = 0.0, exact_area = 0.0;
+  Integrands total;  // the integrals of Eq 20 and the stick areas: N, N m, kg/s, m^2
   if (fields) {
     for (int i = 0; i <= n; ++i) fields->x_m[i] = a * xg.s[i];
     fields->n_strips = ny;
@@ -417,10 +435,7 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
       o.s[j] = vs;
       o.wt[j] = w4;
       o.stuck[j] = vs == 0.0 ? 1.0 : 0.0;
-      const double w = w0 * strip_constants.weight[j];
-      wear_t += w4 * w;
-      stick_area += (vs <= v_m ? 1.0 : 0.0) * w;
-      exact_area += o.stuck[j] * w;
+      total.add(w0 * strip_constants.weight[j], integrands(nodeOf(o, j), a, strip_constants.y_mz[j]));
       if (fields) store(0, j, nodeOf(o, j), *el);
     }
   }
@@ -451,10 +466,10 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
     const march::StepArgs args{&constants, &strip_constants, &coarse, n_back > 0 ? &back : nullptr,
                                {x, px, sat_x}, wxa, &sums};
     advance_(args, 0, n_active, *el, next, nodes, &root_counts);
-    // The packs added the coarse node solutions to `sums`. Sums over the strips redone in substeps of the
-    // change of the node value (weight wx) and of the corrections of their trapezoids (x/a units).
-    double fx_i = 0.0, fy_i = 0.0, mz_y = 0.0, wear_i = 0.0, stick_i = 0.0, exact_i = 0.0;
-    double cfx = 0.0, cfy = 0.0, cmz = 0.0, cwear = 0.0, cstick = 0.0, cexact = 0.0;
+    // The packs added the coarse node solutions to `sums`. What this step adds besides, weighted by strip:
+    // the change of node values by substeps (times the node's area weight wxa) and the corrections of
+    // trapezoids and edge intervals (in x/a, times a b).
+    Integrands node_change, corrections;
     // Substeps: per strip the smallest level L with rate h / 2^L <= resolution, within max_level and the
     // node budget (spent in strip order); 0 where the step stands.
     int n_refined = 0;
@@ -486,16 +501,8 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
         back.set(j, stepTerms(dss, bdf2Coefficients(w_in), w_in));
       }
       for (int j = j1; j < spill_end; ++j) back.set(j, inner);
-      for (int j = j0; j < j1; ++j) {
-        const NodeSolution coarse_o = nodeOf(*nodes, j);
-        const double w = strip_constants.weight[j], y_mz = strip_constants.y_mz[j];
-        fx_i -= w * coarse_o.tx;
-        fy_i -= w * coarse_o.ty;
-        mz_y -= w * y_mz * coarse_o.tx;
-        wear_i -= w * coarse_o.wt;
-        stick_i -= w * sticks(coarse_o);
-        exact_i -= w * exact(coarse_o);
-      }
+      for (int j = j0; j < j1; ++j)
+        node_change.add(-strip_constants.weight[j], integrands(nodeOf(*nodes, j), x, strip_constants.y_mz[j]));
       for (int k = 1; k <= k_sub; ++k) {
         const double s_k = xg.s[i] - k * dss;  // substep node x/a
         double sat_k = sat_x, px_k = px, x_k = x;
@@ -509,33 +516,19 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
         const double c = k < k_sub ? dss : 0.5 * dss;  // trapezoid weight of substep node k
         for (int j = j0; j < j1; ++j) {
           const NodeSolution o = nodeOf(*nodes, j);
-          const double w = strip_constants.weight[j], y_mz = strip_constants.y_mz[j];
-          cfx += w * c * o.tx;
-          cfy += w * c * o.ty;
-          cmz += w * c * (x_k * o.ty - y_mz * o.tx);
-          cwear += w * c * o.wt;
-          cstick += w * c * sticks(o);
-          cexact += w * c * exact(o);
+          const double w = strip_constants.weight[j];
+          corrections.add(w * c, integrands(o, x_k, strip_constants.y_mz[j]));
           // The sliding wear next to an edge of the patch (see the coarse case below), on the substep there.
-          if ((i == 0 && k == 1) || (i == n - 1 && k == k_sub - 1)) cwear += w * edge_weight * dss * (o.wt - w4);
+          if ((i == 0 && k == 1) || (i == n - 1 && k == k_sub - 1))
+            corrections.wear += w * edge_weight * dss * (o.wt - w4);
         }
       }
       for (int j = j0; j < j1; ++j) {
-        const NodeSolution at_i = nodeOf(*prev_nodes, j), o = nodeOf(*nodes, j);
         const double w = strip_constants.weight[j], y_mz = strip_constants.y_mz[j];
-        const double mz_i = x_i * at_i.ty - y_mz * at_i.tx, mz_o = x * o.ty - y_mz * o.tx;
-        cfx += w * (0.5 * dss * at_i.tx - hds * (at_i.tx + o.tx));
-        cfy += w * (0.5 * dss * at_i.ty - hds * (at_i.ty + o.ty));
-        cmz += w * (0.5 * dss * mz_i - hds * (mz_i + mz_o));
-        cwear += w * (0.5 * dss * at_i.wt - hds * (at_i.wt + o.wt));
-        cstick += w * (0.5 * dss * sticks(at_i) - hds * (sticks(at_i) + sticks(o)));
-        cexact += w * (0.5 * dss * exact(at_i) - hds * (exact(at_i) + exact(o)));
-        fx_i += w * o.tx;
-        fy_i += w * o.ty;
-        mz_y += w * y_mz * o.tx;
-        wear_i += w * o.wt;
-        stick_i += w * sticks(o);
-        exact_i += w * exact(o);
+        const Integrands at_i = integrands(nodeOf(*prev_nodes, j), x_i, y_mz), o = integrands(nodeOf(*nodes, j), x, y_mz);
+        corrections.add(w * (0.5 * dss - hds), at_i);  // node i's share of the substeps, less the coarse trapezoid
+        corrections.add(-w * hds, o);
+        node_change.add(w, o);
         refined_step[j] = i;
         substep_ds[j] = dss;
       }
@@ -553,39 +546,28 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
         // p vanishes linearly at x = +-a, so the sliding wear ~ tau^w1 ~ p^w1 has an endpoint singularity
         // there: on the interval next to an edge its integral is h f/(1 + w1), not the trapezoid's h f/2.
         if (edge_step && level[j] == 0)
-          cwear += strip_constants.weight[j] * edge_weight * sp.ds * ((i == 0 ? o.wt : prev_nodes->wt[j]) - w4);
+          corrections.wear += strip_constants.weight[j] * edge_weight * sp.ds * ((i == 0 ? o.wt : prev_nodes->wt[j]) - w4);
         if (fields) store(i + 1, j, o, *next);
       }
     }
     n_back = n_refined;
     std::swap(el, next);
     std::swap(prev_nodes, nodes);
-    const double ab = a * b;
-    fx += fx_i * wxa + cfx * ab;
-    fy += fy_i * wxa + cfy * ab;
-    mz += (x * fy_i - mz_y) * wxa + cmz * ab;
-    wear_t += wear_i * wxa + cwear * ab;
-    stick_area += stick_i * wxa + cstick * ab;
-    exact_area += exact_i * wxa + cexact * ab;
+    total.add(wxa, node_change);
+    total.add(a * b, corrections);
   }
 
-  for (int lane = 0; lane < march::kMaxLanes; ++lane) {
-    fx += sums.fx[lane];
-    fy += sums.fy[lane];
-    mz += sums.mz[lane];
-    wear_t += sums.wear[lane];
-    stick_area += sums.stick[lane];
-    exact_area += sums.exact[lane];
-  }
+  for (int lane = 0; lane < march::kMaxLanes; ++lane)
+    total.add(1.0, {sums.fx[lane], sums.fy[lane], sums.mz[lane], sums.wear[lane], sums.stick[lane], sums.exact[lane]});
   const double area = 4.0 * a * b;  // sum of the weights equals the area exactly
-  result->fx_n = fx;
-  result->fy_n = fy;
-  result->mz_nm = mz;
-  result->wear_rate_kg_per_s = wear_t;
-  result->wear_rate_kg_per_m = wear_t / V;
-  result->stick_fraction = stick_area / area;
+  result->fx_n = total.fx;
+  result->fy_n = total.fy;
+  result->mz_nm = total.mz;
+  result->wear_rate_kg_per_s = total.wear;
+  result->wear_rate_kg_per_m = total.wear / V;
+  result->stick_fraction = total.stick / area;
   result->slide_fraction = 1.0 - result->stick_fraction;
-  result->exact_stick_fraction = exact_area / area;
+  result->exact_stick_fraction = total.exact / area;
   result->half_length_m = a;
   result->half_width_m = b;
   result->max_root_iterations = root_counts.max_iterations;
