@@ -183,12 +183,22 @@ BrushWearModel::XGrid BrushWearModel::makeXGrid(double leading_grading) const {
     const Bdf2 c = bdf2Coefficients(w);
     g.steps[i] = Step{ds, c.a1, c.a2, c.beta, i > 0 ? w : 1.0};
   }
+  auto satOf = [&](double gx_even) { return gx_even > 0.0 ? std::pow(gx_even, -params_.friction.q) : 0.0; };
   g.gx_even.resize(n + 1);
   g.sat_gx.resize(n + 1);
   for (int i = 0; i <= n; ++i) {
     g.gx_even[i] = gx_.even(g.s[i]);
-    g.sat_gx[i] = g.gx_even[i] > 0.0 ? std::pow(g.gx_even[i], -params_.friction.q) : 0.0;
+    g.sat_gx[i] = satOf(g.gx_even[i]);
   }
+  const int fine = 1 << options_.refinement.max_level;  // substeps of the finest level per step
+  g.sub_gx_even.resize(static_cast<size_t>(n) * (fine - 1));
+  g.sub_sat_gx.resize(g.sub_gx_even.size());
+  for (int i = 0; i < n; ++i)
+    for (int m = 1; m < fine; ++m) {
+      const size_t k = static_cast<size_t>(i) * (fine - 1) + (m - 1);
+      g.sub_gx_even[k] = gx_.even(g.s[i] - m * (g.steps[i].ds / fine));
+      g.sub_sat_gx[k] = satOf(g.sub_gx_even[k]);
+    }
   return g;
 }
 
@@ -394,15 +404,10 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
     return t;
   };
 
-  // Pressure factor p / g_y [Pa] and the x factor of sat(p) at node coordinate s = x/a (between grid nodes).
-  auto pressureX = [&](double s, double gx_even, double* sat_x) {
-    const double px = std::max(0.0, p_scale * gx_even * (1.0 - Bx * s));
-    *sat_x = px > 0.0 ? std::pow(px / fr.p_ref_pa, -fr.q) : 0.0;
-    return px;
-  };
-  // The same at grid node i, where (p/p_ref)^-q separates into this evaluation's scale, the grid's gx_even^-q
-  // and the centre shift's (1 - Bx s)^-q (a short series, no pow). Computed for a chunk of nodes at a time,
-  // so that the independent series of the nodes overlap instead of each waiting in the x step's chain.
+  // Pressure factor p / g_y [Pa] and the x factor of sat(p) at grid node i, where (p/p_ref)^-q separates into
+  // this evaluation's scale, the grid's gx_even^-q and the centre shift's (1 - Bx s)^-q (a short series, no
+  // pow); the same at the substep nodes below. Computed for a chunk of nodes at a time, so that the
+  // independent series of the nodes overlap instead of each waiting in the x step's chain.
   const double sat_scale = std::pow(p_scale / fr.p_ref_pa, -fr.q);
   constexpr int kNodeChunk = 64;
   double chunk_px[kNodeChunk], chunk_sat[kNodeChunk];
@@ -503,11 +508,14 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
       for (int j = j1; j < spill_end; ++j) back.set(j, inner);
       for (int j = j0; j < j1; ++j)
         node_change.add(-strip_constants.weight[j], integrands(nodeOf(*nodes, j), x, strip_constants.y_mz[j]));
+      const int fine = 1 << max_level, stride = fine >> level_of_run;  // substep k is the finest grid's k stride
       for (int k = 1; k <= k_sub; ++k) {
-        const double s_k = xg.s[i] - k * dss;  // substep node x/a
+        const double s_k = xg.s[i] - k * dss;  // substep node x/a (k * dss = k stride ds/fine exactly)
         double sat_k = sat_x, px_k = px, x_k = x;
         if (k < k_sub) {
-          px_k = pressureX(s_k, gx_.even(s_k), &sat_k);
+          const size_t sub = static_cast<size_t>(i) * (fine - 1) + (k * stride - 1);
+          px_k = std::max(0.0, p_scale * xg.sub_gx_even[sub] * (1.0 - Bx * s_k));
+          sat_k = px_k > 0.0 ? sat_scale * xg.sub_sat_gx[sub] * shift_saturation_(Bx * s_k, shift_terms) : 0.0;
           x_k = a * s_k;
         }
         const march::StepArgs substep{&constants, &strip_constants, &inner, k == 1 ? &back : nullptr,

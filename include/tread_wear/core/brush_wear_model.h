@@ -119,7 +119,8 @@ enum class TurnSlipOrientation {
 /// fields stay on the coarse grid. Off with max_level = 0 (a fixed grid).
 struct RefinementOptions {
   static constexpr int kMaxLevel = 8;  ///< bound of max_level
-  int max_level = 0;              ///< at most 2^max_level substeps per x step [-], 0..kMaxLevel
+  int max_level = 0;              ///< at most 2^max_level substeps per x step [-], 0..kMaxLevel; the model
+                                  ///< keeps 2 (2^max_level - 1) doubles per x step for the substep nodes
   int node_budget = 0;            ///< substep nodes allowed per evaluation, bounds the extra work [-]
   double resolution = 0.5;        ///< target rate * substep duration [-]
   double damping_ratio = 0.0;     ///< refine below this ratio of effective to critical damping [-]
@@ -215,6 +216,9 @@ class BrushWearModel {
     std::vector<double> wx;       ///< trapezoid weight in x/a
     std::vector<double> gx_even;  ///< even part of g_x at the nodes
     std::vector<double> sat_gx;   ///< gx_even^-q at the nodes, 0 where gx_even = 0 (x factor of sat(p), Eq 11)
+    /// gx_even and gx_even^-q at the interior substep nodes of the finest refinement level, 2^max_level - 1
+    /// per step (index step * (2^max_level - 1) + m - 1 for the m-th); coarser levels use every 2^k-th.
+    std::vector<double> sub_gx_even, sub_sat_gx;
     std::vector<Step> steps;      ///< per-step BDF2 coefficients
   };
   XGrid makeXGrid(double leading_grading) const;
