@@ -121,6 +121,7 @@ Route buildRoute(const SpeedProfile& profile, const RouteParams& params) {
     const double v_approach = profile.maxSpeed(t0, timeAtDistance(profile, s + kApproach_m));
     RouteEvent event;
     std::vector<Arc> arcs;
+    arcs.reserve(3);  // at most three arcs (a roundabout); also keeps GCC 12 from a false -Wnonnull on the assignments
     const double side = draw.chance(0.5) ? 1.0 : -1.0;
     if (v_approach <= params.urban_max_speed_mps) {
       const bool slow_enough = v_approach * v_approach <= a_lim * params.roundabout_radius_m;
