@@ -136,13 +136,7 @@ int runCalibrateCli(int argc, const char* const argv[], std::ostream& out, std::
       err << "error: the fit is not usable: " << result.summary.message << "\n";
       return kExitData;
     }
-  } catch (const RunTableError& e) {
-    err << "error: " << e.what() << "\n";
-    return kExitData;
-  } catch (const ParamsError& e) {
-    err << "error: " << e.what() << "\n";
-    return kExitData;
-  } catch (const std::invalid_argument& e) {
+  } catch (const std::exception& e) {  // a file, row, parameter or fit that cannot be used
     err << "error: " << e.what() << "\n";
     return kExitData;
   }
@@ -301,10 +295,7 @@ int runReferenceModelsCli(int argc, const char* const argv[], std::ostream& out,
     mdf << md.str();
     jf << j.dump(2) << "\n";
     out << md.str();
-  } catch (const RunTableError& e) {
-    err << "error: " << e.what() << "\n";
-    return kExitData;
-  } catch (const std::exception& e) {
+  } catch (const std::exception& e) {  // a file, row, parameter or fit that cannot be used
     err << "error: " << e.what() << "\n";
     return kExitData;
   }
