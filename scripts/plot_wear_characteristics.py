@@ -44,6 +44,24 @@ def sweep_plot(ax, rows, key, label_fmt, rising_only=False):
     ax.legend()
 
 
+def at_side_force_plot(ax, d, variable, key):
+    """W_r over `key` at each required side force (wc_wear_at_side_force.csv rows of one swept variable)."""
+    groups = defaultdict(list)
+    for r in [r for r in read_text(d + "/wc_wear_at_side_force.csv") if r["variable"] == variable]:
+        groups[float(r["side_force_n"])].append((float(r[key]), float(r["wear_rate_g_per_km"])))
+    for fy, pts in sorted(groups.items()):
+        ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", label="Fy = %g N" % fy)
+
+
+def finish_at_side_force_plot(ax, xlabel, title):
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel("global wear rate W_r [g/km]")
+    ax.set_yscale("log")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.set_title(title)
+
+
 def main():
     d = sys.argv[1] if len(sys.argv) > 1 else "docs/figures"
     load_sweep = read(d + "/wc_load_sweep.csv")
@@ -54,36 +72,18 @@ def main():
     fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.5))
     sweep_plot(a, load_sweep, "load_n", "Fz = %g N")
     a.set_title("Fig 13a: W_r over side force, v0 = 2 m/s, R_t = 60 mm")
-    groups = defaultdict(list)
-    for r in [r for r in read_text(d + "/wc_wear_at_side_force.csv") if r["variable"] == "load"]:
-        groups[float(r["side_force_n"])].append((float(r["load_n"]), float(r["wear_rate_g_per_km"])))
-    for fy, pts in sorted(groups.items()):
-        b.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", label="Fy = %g N" % fy)
+    at_side_force_plot(b, d, "load", "load_n")
     b.plot([r["optimal_load_n"] for r in optimal_load], [r["wear_rate_g_per_km"] for r in optimal_load], "k--",
            marker="x", label="optimal load (interpolated)")
-    b.set_xlabel("vertical load Fz [N]")
-    b.set_ylabel("global wear rate W_r [g/km]")
-    b.set_yscale("log")
-    b.grid(True, which="both", alpha=0.3)
-    b.legend(fontsize=8)
-    b.set_title("Fig 13b: W_r over load at a required side force")
+    finish_at_side_force_plot(b, "vertical load Fz [N]", "Fig 13b: W_r over load at a required side force")
     fig.tight_layout()
     fig.savefig(d + "/wc_fig13_load.png", dpi=120)
 
     fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.5))
     sweep_plot(a, speed_sweep, "speed_mps", "v0 = %g m/s", rising_only=True)
     a.set_title("Fig 15a: W_r over side force, Fz = 75 N")
-    groups = defaultdict(list)
-    for r in [r for r in read_text(d + "/wc_wear_at_side_force.csv") if r["variable"] == "speed"]:
-        groups[float(r["side_force_n"])].append((float(r["speed_mps"]), float(r["wear_rate_g_per_km"])))
-    for fy, pts in sorted(groups.items()):
-        b.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", label="Fy = %g N" % fy)
-    b.set_xlabel("speed v0 [m/s]")
-    b.set_ylabel("global wear rate W_r [g/km]")
-    b.set_yscale("log")
-    b.grid(True, which="both", alpha=0.3)
-    b.legend(fontsize=8)
-    b.set_title("Fig 15b: W_r over speed at a required side force")
+    at_side_force_plot(b, d, "speed", "speed_mps")
+    finish_at_side_force_plot(b, "speed v0 [m/s]", "Fig 15b: W_r over speed at a required side force")
     fig.tight_layout()
     fig.savefig(d + "/wc_fig15_speed.png", dpi=120)
 

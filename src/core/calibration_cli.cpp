@@ -178,10 +178,7 @@ int runWearCharacteristicsCli(int argc, const char* const argv[], std::ostream& 
       out << "\n";
     }
     out << "CSV files written to " << dir << "\n";
-  } catch (const ParamsError& e) {
-    err << "error: " << e.what() << "\n";
-    return kExitData;
-  } catch (const std::exception& e) {
+  } catch (const std::exception& e) {  // a file, row, parameter or fit that cannot be used
     err << "error: " << e.what() << "\n";
     return kExitData;
   }
