@@ -533,7 +533,8 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
       }
       for (int j = j0; j < j1; ++j) {
         const double w = strip_constants.weight[j], y_mz = strip_constants.y_mz[j];
-        const Integrands at_i = integrands(nodeOf(*prev_nodes, j), x_i, y_mz), o = integrands(nodeOf(*nodes, j), x, y_mz);
+        const Integrands at_i = integrands(nodeOf(*prev_nodes, j), x_i, y_mz);
+        const Integrands o = integrands(nodeOf(*nodes, j), x, y_mz);
         corrections.add(w * (0.5 * dss - hds), at_i);  // node i's share of the substeps, less the coarse trapezoid
         corrections.add(-w * hds, o);
         node_change.add(w, o);
@@ -553,8 +554,9 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
         const NodeSolution o = nodeOf(*nodes, j);
         // p vanishes linearly at x = +-a, so the sliding wear ~ tau^w1 ~ p^w1 has an endpoint singularity
         // there: on the interval next to an edge its integral is h f/(1 + w1), not the trapezoid's h f/2.
+        const double wt_inner = i == 0 ? o.wt : prev_nodes->wt[j];  // at the interval's end away from the edge
         if (edge_step && level[j] == 0)
-          corrections.wear += strip_constants.weight[j] * edge_weight * sp.ds * ((i == 0 ? o.wt : prev_nodes->wt[j]) - w4);
+          corrections.wear += strip_constants.weight[j] * edge_weight * sp.ds * (wt_inner - w4);
         if (fields) store(i + 1, j, o, *next);
       }
     }

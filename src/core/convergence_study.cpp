@@ -272,8 +272,8 @@ int runConvergenceCli(int argc, const char* const argv[], std::ostream& out, std
   const std::string params_path = args.get("params"), orientation = args.get("orientation", "both");
   const bool quick = args.has("quick"), extended = args.has("extended");
   if (orientation != "literal" && orientation != "flipped" && orientation != "both") {
-    return usageError(err, "tread_wear_convergence", "--orientation " + orientation + ": must be literal, flipped or both",
-                      kUsage);
+    return usageError(err, "tread_wear_convergence",
+                      "--orientation " + orientation + ": must be literal, flipped or both", kUsage);
   }
   OperatingPoint point;
   BrushOptions x_options = xConvergenceOptions();
@@ -284,7 +284,8 @@ int runConvergenceCli(int argc, const char* const argv[], std::ostream& out, std
       return usageError(err, "tread_wear_convergence", error, kUsage);
     }
     if (quick || extended)
-      return usageError(err, "tread_wear_convergence", "--quick and --extended belong to the rig study, not --point", kUsage);
+      return usageError(err, "tread_wear_convergence", "--quick and --extended belong to the rig study, not --point",
+                        kUsage);
   } else if (args.has("strips") || args.has("grading")) {
     return usageError(err, "tread_wear_convergence", "--strips and --grading belong to --point", kUsage);
   }

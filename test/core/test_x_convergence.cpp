@@ -43,7 +43,9 @@ TEST(XConvergence, SecondOrderWithPartialSliding) {
 }
 
 // Pure turn slip at 5 m/s: the aligning moment of the leading-edge transient.
-TEST(XConvergence, SecondOrderUnderPureTurnSlip) { expectSecondOrder(point(100, 0, 0, 5, 0.2), &SolverErrors::mz, "Mz"); }
+TEST(XConvergence, SecondOrderUnderPureTurnSlip) {
+  expectSecondOrder(point(100, 0, 0, 5, 0.2), &SolverErrors::mz, "Mz");
+}
 
 // Driving at 0.5 m/s: the elements break away at mid-patch and oscillate at their natural period, which
 // a fine grid resolves (the wear of that oscillation is what the 60-step grid of `standard` misses).
