@@ -47,7 +47,7 @@
 /// closed-form creep root mu(|v_s|) p = |trial stress|; the wear law (Eq 19) reuses ln|v_s| and
 /// |tau| = mu p (exact at the root), so it costs one exp and one log. Without turn slip and with
 /// y_e = 0 the problem is mirror-symmetric in y and only half the strips are marched.
-/// Memory: the per-strip state lives on the stack (sized for GridSpec::kMaxStrips strips: about 135 KB of
+/// Memory: the per-strip state lives on the stack (sized for GridSpec::kMaxStrips strips: about 140 KB of
 /// stack per call); evaluate()
 /// allocates nothing, is const and thread-safe; its work is bounded by (n_x_steps * max(n_strips, entry_strips) +
 /// refinement.node_budget) * turn_slip_iterations * (BrushOptions::max_root_iterations + 1) friction
