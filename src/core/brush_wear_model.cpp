@@ -417,11 +417,13 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
     if (i >= chunk_first + kNodeChunk) {
       chunk_first = i;
       const int count = std::min(kNodeChunk, n + 1 - i);
+      double shift_u[kNodeChunk];
       for (int k = 0; k < count; ++k) {
-        const double s = xg.s[i + k];
-        chunk_px[k] = std::max(0.0, p_scale * xg.gx_even[i + k] * (1.0 - Bx * s));
-        chunk_sat[k] = chunk_px[k] > 0.0 ? sat_scale * xg.sat_gx[i + k] * shift_saturation_(Bx * s, shift_terms) : 0.0;
+        chunk_px[k] = std::max(0.0, p_scale * xg.gx_even[i + k] * (1.0 - Bx * xg.s[i + k]));
+        shift_u[k] = Bx * xg.s[i + k];
       }
+      shift_saturation_(shift_u, count, shift_terms, chunk_sat);
+      for (int k = 0; k < count; ++k) chunk_sat[k] = chunk_px[k] > 0.0 ? sat_scale * xg.sat_gx[i + k] * chunk_sat[k] : 0.0;
     }
     *sat_x = chunk_sat[i - chunk_first];
     return chunk_px[i - chunk_first];

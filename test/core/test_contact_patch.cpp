@@ -102,6 +102,12 @@ TEST(ShiftSaturation, SeriesAgreesWithPow) {
         EXPECT_NEAR(shift(u, terms) / std::pow(1.0 - u, -q), 1.0, 4e-16) << "q " << q << " u " << u;
       }
     }
+    // The batch form gives the scalar form's values.
+    double u[7] = {-0.25, -0.1, -1e-3, 0.0, 0.05, 0.2, 0.25}, out[7];
+    for (int terms : {shift.terms(0.25), 0}) {
+      shift(u, 7, terms, out);
+      for (int m = 0; m < 7; ++m) EXPECT_EQ(out[m], shift(u[m], terms)) << "q " << q << " u " << u[m];
+    }
     EXPECT_EQ(shift.terms(0.3), 0);
     EXPECT_EQ(shift(0.3, 0), std::pow(0.7, -q));
     EXPECT_EQ(shift(-0.6, 0), std::pow(1.6, -q));

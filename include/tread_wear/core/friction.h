@@ -63,6 +63,17 @@ class ShiftSaturation {
     for (int k = terms - 1; k-- > 0;) sum = sum * u + c_[k];
     return sum;
   }
+  /// The same for u[0..count) into out[0..count): Horner for all of them side by side, so that the independent
+  /// chains overlap (and vectorise) instead of running one after the other.
+  void operator()(const double* u, int count, int terms, double* out) const {
+    if (terms == 0) {
+      for (int m = 0; m < count; ++m) out[m] = std::pow(1.0 - u[m], -q_);
+      return;
+    }
+    for (int m = 0; m < count; ++m) out[m] = c_[terms - 1];
+    for (int k = terms - 1; k-- > 0;)
+      for (int m = 0; m < count; ++m) out[m] = out[m] * u[m] + c_[k];
+  }
 
  private:
   double q_ = 0.0;
