@@ -45,17 +45,17 @@ bool parseOrientation(const std::string& name, TurnSlipOrientation* orientation)
 BrushOptions presetOptions(Preset preset, TurnSlipOrientation orientation) {
   // Where the element crosses the patch within one natural period (high speed), the patch response is
   // its entry transient: the leading half of the x grid is then graded 0.98 instead of 0.9 (road Fy
-  // 1.5% -> 0.61% for standard, no cost: docs/performance.md, "Entry-transient grid"). There `standard`
-  // also marches 24 strips instead of 12, for the capture front in the shoulder band that sets Mz (road
-  // Mz 6.6% -> 1.8%; same section).
+  // 1.5% -> 0.61% for standard, no cost: docs/performance.md, "Entry-transient grid"). There both presets
+  // also march twice their strips, for the capture front in the shoulder band that sets Mz (road Mz 6.6% ->
+  // 1.8% for standard, 18.7% -> 5.8% for fast; same section).
   constexpr double kEntryTransitPeriods = 1.0, kEntryGrading = 0.98;
-  constexpr int kStandardEntryStrips = 24;
+  constexpr int kFastEntryStrips = 12, kStandardEntryStrips = 24;
   BrushOptions o;
   o.orientation = orientation;
   switch (preset) {
     // Grids chosen from the accuracy study in docs/performance.md (errors measured, not assumed).
     case Preset::kFast:
-      o.grid = {40, 6, 0.9, LateralRule::kGaussLegendre, kEntryTransitPeriods, kEntryGrading};
+      o.grid = {40, 6, 0.9, LateralRule::kGaussLegendre, kEntryTransitPeriods, kEntryGrading, kFastEntryStrips};
       o.turn_slip_iterations = 1;
       o.root_tolerance = 3e-2;
       break;
