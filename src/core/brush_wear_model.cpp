@@ -355,11 +355,7 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
     strip_constants.y[j] = active ? b * yg.eta[j] : 0.0;
     strip_constants.gy[j] = active ? yg.gy[j] : 0.0;
     strip_constants.sat_y[j] = active ? yg.sat_y[j] : 0.0;
-    for (auto field : {&march::PathState::dlx, &march::PathState::dly, &march::PathState::dlx_p,
-                       &march::PathState::dly_p, &march::PathState::ux_p, &march::PathState::uy_p,
-                       &march::PathState::z, &march::PathState::z_p, &march::PathState::sliding,
-                       &march::PathState::sliding_p})
-      (el->*field)[j] = 0.0;
+    for (auto field : march::kStateFields) (el->*field)[j] = 0.0;
     el->ux[j] = active && options_.enter_at_road_velocity ? vrx0 + Omega * b * yg.eta[j] : 0.0;
     el->uy[j] = active && options_.enter_at_road_velocity ? vry0 - Omega * a : 0.0;
   }
@@ -409,6 +405,12 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
   // pow); the same at the substep nodes below. Computed for a chunk of nodes at a time, so that the
   // independent series of the nodes overlap instead of each waiting in the x step's chain.
   const double sat_scale = std::pow(p_scale / fr.p_ref_pa, -fr.q);
+  // p / g_y and sat_x at x/a = s from the grid's gx_even and gx_even^-q there and the shift factor (1 - Bx s)^-q.
+  auto pressureFrom = [&](double gx_even, double sat_gx, double s, double shift, double* sat_x) {
+    const double px = std::max(0.0, p_scale * gx_even * (1.0 - Bx * s));
+    *sat_x = px > 0.0 ? sat_scale * sat_gx * shift : 0.0;
+    return px;
+  };
   constexpr int kNodeChunk = 64;
   double chunk_px[kNodeChunk], chunk_sat[kNodeChunk];
   int chunk_first = -kNodeChunk;
@@ -417,13 +419,11 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
     if (i >= chunk_first + kNodeChunk) {
       chunk_first = i;
       const int count = std::min(kNodeChunk, n + 1 - i);
-      double shift_u[kNodeChunk];
-      for (int k = 0; k < count; ++k) {
-        chunk_px[k] = std::max(0.0, p_scale * xg.gx_even[i + k] * (1.0 - Bx * xg.s[i + k]));
-        shift_u[k] = Bx * xg.s[i + k];
-      }
-      shift_saturation_(shift_u, count, shift_terms, chunk_sat);
-      for (int k = 0; k < count; ++k) chunk_sat[k] = chunk_px[k] > 0.0 ? sat_scale * xg.sat_gx[i + k] * chunk_sat[k] : 0.0;
+      double shift_u[kNodeChunk], shift[kNodeChunk];
+      for (int k = 0; k < count; ++k) shift_u[k] = Bx * xg.s[i + k];
+      shift_saturation_(shift_u, count, shift_terms, shift);
+      for (int k = 0; k < count; ++k)
+        chunk_px[k] = pressureFrom(xg.gx_even[i + k], xg.sat_gx[i + k], xg.s[i + k], shift[k], &chunk_sat[k]);
     }
     *sat_x = chunk_sat[i - chunk_first];
     return chunk_px[i - chunk_first];
@@ -516,8 +516,8 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
         double sat_k = sat_x, px_k = px, x_k = x;
         if (k < k_sub) {
           const size_t sub = static_cast<size_t>(i) * (fine - 1) + (k * stride - 1);
-          px_k = std::max(0.0, p_scale * xg.sub_gx_even[sub] * (1.0 - Bx * s_k));
-          sat_k = px_k > 0.0 ? sat_scale * xg.sub_sat_gx[sub] * shift_saturation_(Bx * s_k, shift_terms) : 0.0;
+          px_k = pressureFrom(xg.sub_gx_even[sub], xg.sub_sat_gx[sub], s_k, shift_saturation_(Bx * s_k, shift_terms),
+                              &sat_k);
           x_k = a * s_k;
         }
         const march::StepArgs substep{&constants, &strip_constants, &inner, k == 1 ? &back : nullptr,

@@ -58,10 +58,9 @@ class ShiftSaturation {
   int terms(double max_abs_u) const;
   /// (1 - u)^-q for |u| <= the max_abs_u that `terms` was chosen for.
   double operator()(double u, int terms) const {
-    if (terms == 0) return std::pow(1.0 - u, -q_);
-    double sum = c_[terms - 1];
-    for (int k = terms - 1; k-- > 0;) sum = sum * u + c_[k];
-    return sum;
+    double out;
+    (*this)(&u, 1, terms, &out);
+    return out;
   }
   /// The same for u[0..count) into out[0..count): Horner for all of them side by side, so that the independent
   /// chains overlap (and vectorise) instead of running one after the other.
