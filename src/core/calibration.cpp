@@ -337,6 +337,7 @@ nlohmann::json calibrationToJson(const CalibrationResult& result) {
   j["condition_number"] = num(s.condition_number);
   j["degrees_of_freedom"] = s.degrees_of_freedom;
   j["residual_variance"] = num(s.residual_variance);
+  j["standard_errors"] = s.robust_covariance ? "hc3" : "classic";
   json params = json::array();
   for (const ParameterEstimate& p : s.parameters) {
     const ParameterInfo* info = findParameter(p.name);

@@ -25,7 +25,7 @@ constexpr int kExitData = 1;
 const char* const kCalibrateUsage =
     "usage: tread_wear_calibrate --params FILE --runs RUNS.csv [--fit NAMES] [--target T]\n"
     "       [--orientation literal|flipped] [--prior-weight W] [--fy-weight W] [--wear-weight W]\n"
-    "       [--grid NX,NY] [--no-cv] --json OUT.json [--out-params FILE.yaml]\n"
+    "       [--grid NX,NY] [--no-cv] [--robust-se] --json OUT.json [--out-params FILE.yaml]\n"
     "Fits named model parameters to a run table (docs/calibration.md) by bounded least squares on error ratios\n"
     "(Eq 24) and cross-validates leaving one condition_id out.\n"
     "  --fit NAMES          comma-separated registry names (default w1,w2,w3,w4); see docs/calibration.md\n"
@@ -37,6 +37,8 @@ const char* const kCalibrateUsage =
     "  --wear-weight W      weight of wear error ratios with --target both (default 1)\n"
     "  --grid NX,NY         brush grid during the fit (default 400,24)\n"
     "  --no-cv              skip leave-one-condition-out cross-validation\n"
+    "  --robust-se          HC3 sandwich standard errors (honest when the error-ratio variance differs between\n"
+    "                       runs, e.g. additive force noise on small forces) instead of s^2 (J^T J)^-1\n"
     "  --json OUT.json      machine-readable summary (required)\n"
     "  --out-params FILE    write the calibrated parameter file (YAML)\n";
 
@@ -68,7 +70,7 @@ int runCalibrateCli(int argc, const char* const argv[], std::ostream& out, std::
   if (!args.parse(argc, argv,
                  {"params", "runs", "fit", "target", "orientation", "prior-weight", "fy-weight", "wear-weight", "grid",
                   "json", "out-params"},
-                 {"no-cv"}, &error))
+                 {"no-cv", "robust-se"}, &error))
     return usageError(err, "error", error, kCalibrateUsage);
   if (args.help()) {
     out << kCalibrateUsage;
@@ -97,6 +99,7 @@ int runCalibrateCli(int argc, const char* const argv[], std::ostream& out, std::
   if (args.has("grid") && !parseGridSize(args.get("grid"), &options.grid.n_x_steps, &options.grid.n_strips))
     return usageError(err, "error", "--grid must be NX,NY (for example 400,24)", kCalibrateUsage);
   options.cross_validate = !args.has("no-cv");
+  options.solver.robust_covariance = args.has("robust-se");
   if (!options.validate(&error)) return usageError(err, "error", error, kCalibrateUsage);
 
   try {

@@ -196,6 +196,7 @@ void fillStatistics(const LeastSquaresProblem& problem, const FittingCost& cost,
     }
     cov_scaled = cov_scaled * meat * cov_scaled;
     variance_factor = std::isfinite(s->residual_variance) ? 1.0 : kNaN;
+    s->robust_covariance = true;
   }
   for (int a = 0; a < p; ++a)
     for (int b = 0; b < p; ++b) {
@@ -283,7 +284,8 @@ std::string LeastSquaresSummary::report() const {
   os << std::setprecision(6);
   os << "termination: " << terminationName(termination) << " (" << message << "), usable: " << (usable ? "yes" : "no")
      << "\niterations: " << iterations << ", cost " << initial_cost << " -> " << final_cost
-     << ", dof: " << degrees_of_freedom << ", condition number: " << condition_number << "\n";
+     << ", dof: " << degrees_of_freedom << ", condition number: " << condition_number
+     << "\nstandard errors: " << (robust_covariance ? "HC3 sandwich" : "classic s^2 (J^T J)^-1") << "\n";
   for (const ParameterEstimate& p : parameters) {
     os << "  " << std::setw(14) << std::left << p.name << std::right << " = " << std::setw(13) << p.value
        << " +- " << std::setw(12) << p.std_error << "  [" << p.lower << ", " << p.upper << "]"

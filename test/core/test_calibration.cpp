@@ -8,6 +8,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "tread_wear/core/calibration.h"
 #include "tread_wear/core/calibration_cli.h"
 
@@ -163,6 +165,33 @@ TEST(CalibrateCli, BadRunTableGivesClearErrorAndExitCode) {
   std::ostringstream out2, err2;
   EXPECT_EQ(runCalibrateCli(9, usage, out2, err2), 2);
   EXPECT_NE(err2.str().find("w9"), std::string::npos);
+}
+
+// --robust-se switches the standard errors to the HC3 sandwich (its coverage: test_least_squares) and says so in
+// the report and the JSON; the fit itself is the same.
+TEST(CalibrateCli, RobustStandardErrorsAreTheSameFitWithOtherErrorsAndSaySo) {
+  const std::string params = std::string(TREAD_WEAR_SOURCE_DIR) + "/config/tires/grosch_wheel.yaml";
+  const std::string runs = std::string(TREAD_WEAR_SOURCE_DIR) + "/data/paper/table3_runs.csv";
+  nlohmann::json fits[2];
+  for (int robust = 0; robust < 2; ++robust) {
+    const std::string json = std::string(::testing::TempDir()) + "se" + std::to_string(robust) + ".json";
+    const char* argv[] = {"tread_wear_calibrate", "--params", params.c_str(), "--runs", runs.c_str(), "--json",
+                          json.c_str(), "--fit", "w1,w3", "--grid", "60,8", "--no-cv", "--robust-se"};
+    std::ostringstream out, err;
+    ASSERT_EQ(runCalibrateCli(12 + robust, argv, out, err), 0) << err.str();
+    EXPECT_NE(out.str().find(robust ? "standard errors: HC3 sandwich" : "standard errors: classic"),
+              std::string::npos)
+        << out.str();
+    std::ifstream f(json);
+    fits[robust] = nlohmann::json::parse(f);
+    EXPECT_EQ(fits[robust]["standard_errors"], robust ? "hc3" : "classic");
+  }
+  for (int k = 0; k < 2; ++k) {
+    const nlohmann::json &classic = fits[0]["parameters"][k], &hc3 = fits[1]["parameters"][k];
+    EXPECT_EQ(classic["value"], hc3["value"]) << classic["name"];
+    EXPECT_GT(hc3["std_error"].get<double>(), 0.0);
+    EXPECT_NE(classic["std_error"], hc3["std_error"]) << classic["name"];
+  }
 }
 
 }  // namespace

@@ -114,6 +114,9 @@ struct LeastSquaresSummary {
   double condition_number = std::numeric_limits<double>::quiet_NaN();  ///< of the column-scaled Jacobian
   double residual_variance = std::numeric_limits<double>::quiet_NaN(); ///< s^2 of the data residuals
   int degrees_of_freedom = 0;                                          ///< N_data - p_free
+  /// std_error and correlation are the HC3 sandwich (LeastSquaresOptions::robust_covariance, with J^T J
+  /// regular); else the classic s^2 (J^T J)^-1.
+  bool robust_covariance = false;
   std::vector<int> records;        ///< records fitted
   std::vector<double> residuals;   ///< data residuals at the solution, records.size() * residuals_per_record
 
