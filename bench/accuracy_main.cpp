@@ -132,7 +132,7 @@ int main(int argc, char** argv) {
   double entry_periods = 0.0, entry_grading = 0.0;
   int entry_strips = 0;
   std::vector<Candidate> candidates;
-  for (Preset p : {Preset::kFast, Preset::kStandard, Preset::kReference}) candidates.push_back({presetName(p), presetOptions(p)});
+  for (Preset p : kAllPresets) candidates.push_back({presetName(p), presetOptions(p)});
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--road-params") && i + 1 < argc) {
       road_params_path = argv[++i];

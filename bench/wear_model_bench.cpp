@@ -147,7 +147,7 @@ void BM_ReferenceSolver(benchmark::State& state) {
 BENCHMARK(BM_ReferenceSolver)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 BENCHMARK(BM_Evaluate)
-    ->ArgsProduct({{0, 1, 2}, {0, 1}})
+    ->ArgsProduct({{0, 1, 2, 3}, {0, 1}})
     ->Unit(benchmark::kMicrosecond)
     ->MinTime(0.5);
 

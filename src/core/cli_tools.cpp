@@ -25,7 +25,7 @@ namespace {
 constexpr int kExitData = 1;
 
 const char* const kEvalUsage =
-    "usage: tread_wear_eval --params FILE [--orientation literal|flipped] [--preset fast|standard|reference]\n"
+    "usage: tread_wear_eval --params FILE [--orientation literal|flipped] [--preset fast|standard|fine|reference]\n"
     "                       [--grid NXxNS] CONDITIONS.csv|-\n"
     "Evaluates the brush wear model (paper Eqs 6-20) at each row of a conditions CSV (or stdin for '-') and\n"
     "writes CSV to stdout: the input columns, then fx_n, fy_n, mz_nm, wear_rate_kg_per_m, wear_rate_kg_per_s,\n"
@@ -34,8 +34,8 @@ const char* const kEvalUsage =
     "positive; 0 or empty = straight), load_n, optional tread_temperature_c.\n"
     "  --params FILE        tire parameter file (docs/parameters.md), e.g. config/tires/grosch_wheel.yaml\n"
     "  --orientation X      literal (default): path curvature as given; flipped: curvature negated\n"
-    "  --preset NAME        fast or standard (default): the brush marcher at that grid; reference: the\n"
-    "                       independent CVODE reference solver (tens of ms per row)\n"
+    "  --preset NAME        fast, standard (default) or fine: the brush marcher at that grid (docs/performance.md);\n"
+    "                       reference: the independent CVODE reference solver (tens of ms per row)\n"
     "  --grid NXxNS         instead of a preset: the brush marcher with NX x-steps and NS lateral strips (e.g.\n"
     "                       3200x16), otherwise the reference preset's options (grading 0.8, sine midpoints,\n"
     "                       3 turn-slip passes, root tolerance 1e-7); for grid-convergence studies\n"
@@ -44,18 +44,18 @@ const char* const kEvalUsage =
 
 const char* const kCompareUsage =
     "usage: tread_wear_compare --params FILE --runs RUNS.csv [--orientation literal|flipped|both]\n"
-    "                          [--preset fast|standard|reference] [--csv OUT.csv]\n"
+    "                          [--preset fast|standard|fine|reference] [--csv OUT.csv]\n"
     "Compares the model with measured runs (run table v1, docs/run_table.md): per run the conditions, measured\n"
     "and predicted side force [N] and wear rate [g/km] with error ratios (Eq 24), then RMSER per orientation.\n"
     "Runs with load_std_n are predicted as the Eq 23 average over 10 N load bins.\n"
     "  --params FILE        tire parameter file (docs/parameters.md)\n"
     "  --runs FILE          run table, e.g. data/paper/table3_runs.csv\n"
     "  --orientation X      literal, flipped or both (default both)\n"
-    "  --preset NAME        fast or standard: the brush marcher at that grid; reference (default): the\n"
+    "  --preset NAME        fast, standard or fine: the brush marcher at that grid; reference (default): the\n"
     "                       independent CVODE reference solver (reference_solver.h)\n"
     "  --csv OUT.csv        also write the per-run comparison in SI to OUT.csv\n";
 
-/// The model of a preset: the marcher (WearModel) for fast and standard; for reference the independent CVODE
+/// The model of a preset: the marcher (WearModel) for fast, standard and fine; for reference the independent CVODE
 /// solver (reference_solver.h) at its default tolerances; for a custom grid (--grid) the marcher at that grid.
 /// All with WearModel's low-speed convention (wear_model.h: speed and rolling-speed floors).
 class PresetModel {
@@ -137,7 +137,8 @@ int runEvalCli(int argc, const char* const argv[], std::istream& in, std::ostrea
     return usageError(err, "error", "--orientation must be literal or flipped, not '" + args.get("orientation") + "'",
                       kEvalUsage);
   if (args.has("preset") && !parsePreset(args.get("preset"), &options.preset))
-    return usageError(err, "error", "--preset must be fast, standard or reference, not '" + args.get("preset") + "'",
+    return usageError(err, "error",
+                      std::string("--preset must be ") + kPresetChoices + ", not '" + args.get("preset") + "'",
                       kEvalUsage);
   GridSpec grid = presetOptions(Preset::kReference).grid;
   const bool custom_grid = args.has("grid");
@@ -205,7 +206,7 @@ int runCompareCli(int argc, const char* const argv[], std::ostream& out, std::os
   }
   Preset preset = Preset::kReference;
   if (args.has("preset") && !parsePreset(args.get("preset"), &preset))
-    return usageError(err, "error", "--preset must be fast, standard or reference", kCompareUsage);
+    return usageError(err, "error", std::string("--preset must be ") + kPresetChoices, kCompareUsage);
   try {
     const TireParams params = loadTireParams(args.get("params"));
     const RunTable table = readRunTable(args.get("runs"));

@@ -21,7 +21,7 @@ std::string modelOptions(const CommandLine& a, ExtendedModelOptions* m) {
   if (a.has("orientation") && !parseOrientation(a.get("orientation"), &m->orientation))
     return "--orientation must be literal or flipped, got '" + a.get("orientation") + "'";
   if (a.has("preset") && !parsePreset(a.get("preset"), &m->preset))
-    return "--preset must be fast, standard or reference, got '" + a.get("preset") + "'";
+    return std::string("--preset must be ") + kPresetChoices + ", got '" + a.get("preset") + "'";
   return "";
 }
 

@@ -13,13 +13,14 @@ const char* presetName(Preset preset) {
   switch (preset) {
     case Preset::kFast: return "fast";
     case Preset::kStandard: return "standard";
+    case Preset::kFine: return "fine";
     case Preset::kReference: return "reference";
   }
   return "unknown";
 }
 
 bool parsePreset(const std::string& name, Preset* preset) {
-  for (Preset p : {Preset::kFast, Preset::kStandard, Preset::kReference}) {
+  for (Preset p : kAllPresets) {
     if (name == presetName(p)) {
       *preset = p;
       return true;
@@ -49,7 +50,7 @@ BrushOptions presetOptions(Preset preset, TurnSlipOrientation orientation) {
   // also march twice their strips, for the capture front in the shoulder band that sets Mz (road Mz 6.6% ->
   // 1.8% for standard, 18.7% -> 5.8% for fast; same section).
   constexpr double kEntryTransitPeriods = 1.0, kEntryGrading = 0.98;
-  constexpr int kFastEntryStrips = 12, kStandardEntryStrips = 24;
+  constexpr int kFastEntryStrips = 12, kStandardEntryStrips = 24, kFineEntryStrips = 64;
   BrushOptions o;
   o.orientation = orientation;
   switch (preset) {
@@ -68,6 +69,20 @@ BrushOptions presetOptions(Preset preset, TurnSlipOrientation orientation) {
       // nodes) bounds the worst case at twice the fixed grid's nodes. Damping ratio 1 instead would halve
       // the road grid's W_r error again at 1.6x the median and 4x the p99 time (docs/performance.md).
       o.refinement = {3, 720, 0.5, 0.0};
+      break;
+    case Preset::kFine:
+      // Twice standard's x steps (the Mz error constant at 5-20 m/s), twice its strips (the W_r shoulder
+      // error at 5 m/s), 64 strips on the entry-transient grid (the capture front at 40 m/s), and substeps
+      // wherever sliding is underdamped (damping ratio 1), at resolution 0.25: the release of the deflection
+      // at the trailing edge and the stick-slip bursts at low speed (docs/performance.md, "fine").
+      o.grid = {120, 24, 0.9, LateralRule::kGaussShoulderPanels, kEntryTransitPeriods, kEntryGrading, kFineEntryStrips};
+      o.turn_slip_iterations = 1;
+      o.root_tolerance = 3e-2;
+      o.refinement = {4, 8000, 0.25, 1.0};
+      // Its short substeps meet near-tangent slide roots (velocity-weakening branch) at extreme slip and
+      // low speed, where the safeguarded Newton iteration converges linearly: 42 iterations at Fz 210 N,
+      // kappa -0.62, V 0.25 m/s (the 40th iterate gives the same W_r to 6 digits).
+      o.max_root_iterations = 60;
       break;
     case Preset::kReference:
       o.grid = {1600, 64, 0.8, LateralRule::kSineMidpoint};
@@ -99,7 +114,7 @@ WearModel::WearModel(const TireParams& params, const WearModelOptions& options)
       active_(options.preset) {
   std::string error;
   if (!options.validate(&error)) throw std::invalid_argument("invalid wear model options: " + error);
-  for (Preset p : {Preset::kFast, Preset::kStandard, Preset::kReference})
+  for (Preset p : kAllPresets)
     solvers_[static_cast<int>(p)] = std::make_unique<BrushWearModel>(params, presetOptions(p, options.orientation));
   timing_s_.fill(std::numeric_limits<double>::quiet_NaN());
 }
@@ -136,7 +151,7 @@ EvalStatus WearModel::evaluate(const OperatingPoint& op, WearResult* result, Pat
   Preset preset = choosePreset();
   if (fields != nullptr && !fitsFields(preset, *fields)) {
     // Local fields are laid out on one preset's grid: use that preset for this call, whatever the budget.
-    for (Preset p : {Preset::kFast, Preset::kStandard, Preset::kReference})
+    for (Preset p : kAllPresets)
       if (fitsFields(p, *fields)) preset = p;
     if (!fitsFields(preset, *fields)) fields = nullptr;  // sized for no preset: left untouched
   }

@@ -77,7 +77,7 @@ bool NodeConfig::load(const ros::NodeHandle& pnh, NodeConfig* c, std::string* er
   pnh.param("budget_us", cfg.budget_us, cfg.budget_us);
   std::string preset = presetName(cfg.preset);
   pnh.param("preset", preset, preset);
-  if (!parsePreset(preset, &cfg.preset)) return fail(error, "preset", preset, "fast, standard or reference");
+  if (!parsePreset(preset, &cfg.preset)) return fail(error, "preset", preset, kPresetChoices);
   std::string orientation = orientationName(cfg.orientation);
   pnh.param("turn_slip_orientation", orientation, orientation);
   if (!parseOrientation(orientation, &cfg.orientation))

@@ -397,7 +397,7 @@ bool TreadWearNode::evaluateWear(tread_wear::EvaluateWear::Request& req, tread_w
   Preset preset = static_cast<Preset>(configured_preset_.load());
   if (!req.preset.empty() && !parsePreset(req.preset, &preset)) {
     res.success = false;
-    res.message = "unknown preset '" + req.preset + "' (fast, standard or reference)";
+    res.message = "unknown preset '" + req.preset + "' (" + std::string(kPresetChoices) + ")";
     return true;
   }
   std::lock_guard<std::mutex> lock(wheel->planner_mutex);

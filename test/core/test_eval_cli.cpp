@@ -5,6 +5,7 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -111,6 +112,27 @@ TEST_F(Cli, EvalMatchesTheModelAtFullPrecision) {
   EXPECT_GT(std::stod(rows[3][5]), 0.0);
   // Wear per time = W_r V (row 2: V = 10 m/s).
   EXPECT_DOUBLE_EQ(std::stod(rows[2][9]), 10.0 * std::stod(rows[2][8]));
+}
+
+// --preset fine meets the issue 4 bounds where standard does not: at the stick-slip burst condition of the road
+// grid (Fz 150 N, kappa -0.2, V 0.5 m/s, straight; standard 7.6% low in W_r) and the Table 3 benchmark it is
+// within 2% of the independent CVODE solver (--preset reference) in W_r and within 1% in Fx and Fy.
+TEST_F(Cli, FinePresetMeetsTheAccuracyBoundsAgainstTheReferenceSolver) {
+  const std::string input = kHeader +
+                            "0.5,0,-0.2,0,150\n"
+                            "2,-0.17453292519943295,0,0.06,75\n";
+  const ToolRun fine = run(eval("--preset fine -"), input), reference = run(eval("--preset reference -"), input);
+  ASSERT_EQ(fine.rc, 0) << fine.err;
+  ASSERT_EQ(reference.rc, 0) << reference.err;
+  const auto f = csvRows(fine.out), r = csvRows(reference.out);
+  ASSERT_EQ(f.size(), 3u);
+  ASSERT_EQ(r.size(), 3u);
+  for (size_t i = 1; i < f.size(); ++i) {
+    const double fx = std::stod(r[i][5]), fy = std::stod(r[i][6]), load = std::stod(r[i][4]);
+    EXPECT_NEAR(std::stod(f[i][5]), fx, 0.01 * std::max(std::fabs(fx), 0.01 * load)) << "row " << i;
+    EXPECT_NEAR(std::stod(f[i][6]), fy, 0.01 * std::max(std::fabs(fy), 0.01 * load)) << "row " << i;
+    EXPECT_NEAR(std::stod(f[i][8]) / std::stod(r[i][8]), 1.0, 0.02) << "row " << i;
+  }
 }
 
 TEST_F(Cli, GridOptionRunsTheMarcherAtThatGrid) {

@@ -53,7 +53,7 @@ std::vector<OperatingPoint> points() {
 
 TEST(NoAllocation, BrushWearModelEvaluateAllocatesNothing) {
   const TireParams params;
-  for (Preset preset : {Preset::kFast, Preset::kStandard, Preset::kReference}) {
+  for (Preset preset : kAllPresets) {
     const BrushWearModel model(params, presetOptions(preset));
     PatchFields fields;
     fields.resize(model.nodesX(), model.strips());

@@ -49,7 +49,7 @@ std::vector<Case> roadCases() {
                             {150, 10, -0.05, 5, 0.2}, {50, 25, 0.2, 40, 0},   {100, 0, 0.2, 5, 0},
                             {150, 0, -0.05, 0.5, 0.2}, {150, 0, 0, 40, 0.2},   {150, 1, 0, 40, 0.2},
                             {150, 0, 0.05, 0.5, 0},  {50, 0, 0.2, 5, 0},     {100, 0, 0, 5, 0.2},
-                            {50, 6, -0.05, 5, 0}};
+                            {50, 6, -0.05, 5, 0},    {100, 15, 0.2, 0.5, 0},  {150, 6, -0.2, 5, 0}};
   std::vector<Case> out;
   for (const auto& r : rows) {
     Case c{OperatingPoint(), TurnSlipOrientation::kLiteral};
@@ -93,6 +93,10 @@ TEST(PresetAccuracy, StandardOnTable3Rig) { checkPreset(Preset::kStandard, rigCa
 TEST(PresetAccuracy, StandardOnRoadGrid) { checkPreset(Preset::kStandard, roadCases(), {0.007, 0.02, 0.09, 0.03}); }
 TEST(PresetAccuracy, FastOnTable3Rig) { checkPreset(Preset::kFast, rigCases(), {0.015, 0.04, 0.02, 0.02}); }
 TEST(PresetAccuracy, FastOnRoadGrid) { checkPreset(Preset::kFast, roadCases(), {0.02, 0.06, 0.19, 0.07}); }
+// fine meets the issue 4 bounds on both grids (whole road grid against the marcher reference: Fx 0.11%,
+// Fy 0.17%, Mz 0.54%, W_r 1.48%, stick 0.005, exact stick 0.013), so those bounds are asserted on both.
+TEST(PresetAccuracy, FineOnTable3Rig) { checkPreset(Preset::kFine, rigCases(), {0.01, 0.01, 0.02, 0.02}); }
+TEST(PresetAccuracy, FineOnRoadGrid) { checkPreset(Preset::kFine, roadCases(), {0.01, 0.01, 0.02, 0.02}); }
 
 // The presets are ordered: on the Table 3 rig conditions standard is at least as accurate as fast in
 // W_r summed over the grid (a refinement that did not help would be a wasted preset).

@@ -152,7 +152,7 @@ TEST(WearModelInput, RandomPointsGiveFiniteFrictionBoundedResults) {
   const TireParams params;
   const FrictionParams& f = params.friction;
   const double sat_max = std::pow(f.p_0_pa / f.p_ref_pa, -f.q);
-  for (Preset preset : {Preset::kFast, Preset::kStandard}) {
+  for (Preset preset : {Preset::kFast, Preset::kStandard, Preset::kFine}) {
     WearModelOptions o;
     o.preset = preset;
     const WearModel model(params, o);
@@ -182,7 +182,7 @@ TEST(WearModelInput, RandomPointsGiveFiniteFrictionBoundedResults) {
 TEST(BrushMarcher, SimdPacksAgreeWithOneStripAtATime) {
   const TireParams params;
   double worst_force = 0.0, worst_wear = 0.0, worst_fraction = 0.0;
-  for (Preset preset : {Preset::kFast, Preset::kStandard})
+  for (Preset preset : {Preset::kFast, Preset::kStandard, Preset::kFine})
     for (int lanes : {4, 2}) {
       BrushOptions packed = presetOptions(preset), single = packed;
       packed.max_simd_lanes = lanes;
@@ -373,7 +373,7 @@ TEST(BrushEntryGrid, FieldsCarryTheStripsOfTheGridUsed) {
 }
 
 TEST(WearModelPresets, NamesRoundTripAndUnknownIsRejected) {
-  for (Preset p : {Preset::kFast, Preset::kStandard, Preset::kReference}) {
+  for (Preset p : kAllPresets) {
     Preset parsed = Preset::kFast;
     EXPECT_TRUE(parsePreset(presetName(p), &parsed));
     EXPECT_EQ(parsed, p);

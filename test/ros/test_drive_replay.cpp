@@ -149,7 +149,7 @@ TEST(DriveReplay, BadOptionsAreUsageErrors) {
       {"--threads x", "--threads must be an integer, not 'x'"},
       {"--rate-hz -50", "--rate-hz must be > 0"},
       {"--rate-hz fifty", "--rate-hz must be a number, not 'fifty'"},
-      {"--preset ultra", "--preset must be fast, standard or reference, not 'ultra'"},
+      {"--preset ultra", "--preset must be fast, standard, fine or reference, not 'ultra'"},
       {"--colour red", "unknown option '--colour'"},
       {"second.bag", "unexpected argument 'second.bag'"}};
   for (const auto& [options, message] : cases) {

@@ -90,7 +90,7 @@ ReplayConfig loadReplayConfig(const std::string& path) {
     ReplaySettings& s = c.settings;
     s.update_rate_hz = number<double>(root, "update_rate_hz", s.update_rate_hz);
     if (root["preset"] && !parsePreset(root["preset"].as<std::string>(), &s.model.preset))
-      throw fail("preset '" + root["preset"].as<std::string>() + "' is not fast, standard or reference");
+      throw fail("preset '" + root["preset"].as<std::string>() + "' is not " + kPresetChoices);
     if (root["turn_slip_orientation"]) {
       const std::string o = root["turn_slip_orientation"].as<std::string>();
       if (!parseOrientation(o, &s.model.orientation))

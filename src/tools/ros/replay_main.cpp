@@ -21,7 +21,7 @@ namespace {
 
 const char* const kUsage =
     "usage: tread_wear_replay IN.bag [--out OUT.bag] [--summary FILE.json] [--timeseries FILE.csv]\n"
-    "                         [--preset fast|standard|reference] [--wheels CONFIG.yaml] [--rate-hz HZ]\n"
+    "                         [--preset fast|standard|fine|reference] [--wheels CONFIG.yaml] [--rate-hz HZ]\n"
     "                         [--out-rate-hz HZ] [--timeseries-rate-hz 1] [--threads N] [--quiet]\n"
     "  --wheels   node configuration (wheels, tires, topics, update rate, preset) [default: config/vehicle_wheels.yaml]\n"
     "  --rate-hz  update rate, overrides the configuration's update_rate_hz [Hz]\n"
@@ -120,7 +120,8 @@ int main(int argc, char** argv) {
   if (threads < 1) return usage_error("--threads must be >= 1");
   tread_wear::Preset preset = tread_wear::Preset::kStandard;
   if (args.has("preset") && !tread_wear::parsePreset(args.get("preset"), &preset))
-    return usage_error("--preset must be fast, standard or reference, not '" + args.get("preset") + "'");
+    return usage_error(std::string("--preset must be ") + tread_wear::kPresetChoices + ", not '" + args.get("preset") +
+                       "'");
   const std::string in = args.positional()[0], out = args.get("out"), summary_path = args.get("summary");
   const std::string timeseries_path = args.get("timeseries");
   const std::string wheels_path = args.get("wheels", std::string(TREAD_WEAR_SHARE_DIR) + "/config/vehicle_wheels.yaml");
