@@ -24,6 +24,7 @@
 /// WearModel is not thread-safe (the timing state changes in the const evaluate()): one per thread.
 
 #include <array>
+#include <iterator>
 #include <memory>
 #include <string>
 
@@ -71,7 +72,7 @@ enum class EvalStatus {
 
 class WearModel {
  public:
-  static constexpr int kPresets = 4;
+  static constexpr int kPresets = static_cast<int>(std::size(kAllPresets));
 
   /// @throw std::invalid_argument naming the field for invalid parameters or options.
   WearModel(const TireParams& params, const WearModelOptions& options);
