@@ -27,8 +27,8 @@ std::string modelOptions(const CommandLine& a, ExtendedModelOptions* m) {
 
 const char* const kDiagnoseUsage =
     "usage: tread_wear_diagnose --params FILE (--runs FILE.csv | --bag FILE.bag) --report DIR\n"
-    "       [--orientation literal|flipped] [--preset fast|standard] [--candidates a,b,...] [--max-terms N]\n"
-    "       [--alpha-locate X] [--alpha-select X] [--seed N] [--plot-script PATH | --no-plots]\n";
+    "       [--orientation literal|flipped] [--preset fast|standard|fine|reference] [--candidates a,b,...]\n"
+    "       [--max-terms N] [--alpha-locate X] [--alpha-select X] [--seed N] [--plot-script PATH | --no-plots]\n";
 
 }  // namespace
 
