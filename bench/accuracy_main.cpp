@@ -128,6 +128,8 @@ int main(int argc, char** argv) {
   bool use_cvode = false;
   bool time = false;
   std::string points_path;
+  int random_points = 0;
+  unsigned random_seed = 1;
   RefinementOptions refine;
   double entry_periods = 0.0, entry_grading = 0.0;
   int entry_strips = 0;
@@ -142,6 +144,10 @@ int main(int argc, char** argv) {
       coarse = true;
     } else if (!std::strcmp(argv[i], "--points") && i + 1 < argc) {
       points_path = argv[++i];
+    } else if (!std::strcmp(argv[i], "--random") && i + 1 < argc) {
+      random_points = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--seed") && i + 1 < argc) {
+      random_seed = static_cast<unsigned>(std::strtoul(argv[++i], nullptr, 10));
     } else if (!std::strcmp(argv[i], "--time")) {
       time = true;
     } else if (!std::strcmp(argv[i], "--refine") && i + 4 < argc) {
@@ -175,7 +181,7 @@ int main(int argc, char** argv) {
       i += 6;
     } else {
       std::fprintf(stderr,
-                   "usage: %s [--reference marcher|cvode] [--road-params FILE] [--coarse] [--time] [--points FILE.csv] "
+                   "usage: %s [--reference marcher|cvode] [--road-params FILE] [--coarse | --random N [--seed S]] [--time] [--points FILE.csv] "
                    "[--refine LEVEL BUDGET RESOLUTION DAMPING_RATIO] [--entry PERIODS GRADING] [--entry-strips N] [--grid NX NY GRADING sine|gauss|panels PASSES TOL]...\n",
                    argv[0]);
       return 2;
@@ -193,7 +199,12 @@ int main(int argc, char** argv) {
   if (!road_params_path.empty()) road = loadTireParams(road_params_path);
   const double nominal = road.name == grosch.name ? 100.0 : 4000.0;
   const auto rig = bench::rigConditions();
-  const auto roadset = bench::roadConditions(nominal, coarse);
+  if (random_points < 0) {
+    std::fprintf(stderr, "--random N needs N >= 0\n");
+    return 2;
+  }
+  const auto roadset = random_points > 0 ? bench::randomRoadConditions(nominal, random_points, random_seed)
+                                         : bench::roadConditions(nominal, coarse);
   auto ref_rig = evaluateAll(grosch, presetOptions(Preset::kReference), rig);
   auto ref_road = evaluateAll(road, presetOptions(Preset::kReference), roadset);
   int failures = 0;
@@ -201,10 +212,11 @@ int main(int argc, char** argv) {
     ref_rig = cvodeAll(grosch, rig, ref_rig, &failures);
     ref_road = cvodeAll(road, roadset, ref_road, &failures);
   }
-  std::printf("reference: %s; road tire: %s (nominal load %.0f N), %zu road and %zu rig conditions\n",
+  std::printf("reference: %s; road tire: %s (nominal load %.0f N), %zu %sroad and %zu rig conditions\n",
               use_cvode ? ("ReferenceBrushSolver (CVODE), " + std::to_string(failures) + " condition(s) fell back to the marcher").c_str()
                         : "marcher preset 'reference' (1600 x 64)",
-              road.name.c_str(), nominal, roadset.size(), rig.size());
+              road.name.c_str(), nominal, roadset.size(),
+              random_points > 0 ? ("random (seed " + std::to_string(random_seed) + ") ").c_str() : "", rig.size());
   std::FILE* points = nullptr;
   if (!points_path.empty()) {
     points = std::fopen(points_path.c_str(), "w");

@@ -8,10 +8,14 @@
 ///    Abrasion Test Stand runs them (slip_angle = -alpha, path radius +60 mm), in both orientations.
 ///  - road: load x slip angle (past the force peak, which is near 15 deg for the Grosch wheel at 100 N)
 ///    x slip ratio in [-0.2, 0.2] x speed 0.5..40 m/s x path curvature (straight and R = 5 m).
+///  - random road: n points drawn inside the road grid's envelope (between its nodes), for accuracy
+///    claims that must not depend on where the grid's points happen to lie.
 /// Error measures against a reference result: tread_wear/core/solver_errors.h.
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -75,6 +79,32 @@ inline std::vector<Condition> roadConditions(double nominal_load_n, bool coarse 
                        " curv=" + std::to_string(c).substr(0, 3);
             out.push_back(cd);
           }
+  return out;
+}
+
+/// n road conditions drawn uniformly inside the road grid's envelope: load 0.5-1.5 nominal_load_n, slip angle
+/// 0-25 deg, slip ratio -0.2..0.2, speed log-uniform 0.5-40 m/s, half of them straight and half on a path of
+/// curvature 0-0.2 1/m. The same seed gives the same points on every machine (std::mt19937's sequence is fixed;
+/// the draws go through the seed's raw 32-bit outputs, not a library distribution).
+inline std::vector<Condition> randomRoadConditions(double nominal_load_n, int n, unsigned seed) {
+  std::mt19937 rng(seed);
+  auto uniform = [&rng] { return (rng() + 0.5) / 4294967296.0; };  // (0, 1), portable
+  std::vector<Condition> out;
+  for (int k = 0; k < n; ++k) {
+    Condition c;
+    c.op.load_n = nominal_load_n * (0.5 + uniform());
+    c.op.slip_angle_rad = 25.0 * uniform() * units::kDegree;
+    c.op.slip_ratio = -0.2 + 0.4 * uniform();
+    c.op.speed_mps = 0.5 * std::pow(80.0, uniform());
+    const bool turning = uniform() < 0.5;
+    const double curvature = 0.2 * uniform();
+    c.op.path_curvature_per_m = turning ? curvature : 0.0;
+    char label[160];
+    std::snprintf(label, sizeof(label), "Fz=%.1f alpha=%.2f kappa=%.3f V=%.2f curv=%.3f", c.op.load_n,
+                  c.op.slip_angle_rad / units::kDegree, c.op.slip_ratio, c.op.speed_mps, c.op.path_curvature_per_m);
+    c.label = label;
+    out.push_back(c);
+  }
   return out;
 }
 
