@@ -1,4 +1,4 @@
-// Measured error bounds of the fast and standard presets (docs/performance.md) hold on a modest grid
+// Measured error bounds of the fast, standard and fine presets (docs/performance.md) hold on a modest grid
 // of conditions against the fine reference: the marcher's 'reference' preset (1600 x 64), which agrees
 // with the CVODE ReferenceBrushSolver within 0.02% on the rig grid and within 0.18% (Fx, Fy), 1.9% (Mz),
 // 0.8% (W_r) and 0.008 (fractions) on the road grid (docs/performance.md). The bounds are the whole-grid maxima of the accuracy study, rounded up; the
@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "../../bench/bench_conditions.h"  // the rig grid and the random road points of the accuracy study
 #include "tread_wear/core/solver_errors.h"
 #include "tread_wear/core/units.h"
 #include "tread_wear/core/wear_model.h"
@@ -21,27 +22,9 @@ struct Bounds {
   double force, mz, wear, fraction;
 };
 
-struct Case {
-  OperatingPoint op;
-  TurnSlipOrientation orientation;
-};
+using bench::Condition;
 
-std::vector<Case> rigCases() {
-  const double table3[7][3] = {{1, 10, 75}, {2, 10, 75}, {3, 10, 75}, {2, 5, 75}, {2, 15, 75}, {2, 10, 50}, {2, 10, 100}};
-  std::vector<Case> out;
-  for (TurnSlipOrientation o : {TurnSlipOrientation::kLiteral, TurnSlipOrientation::kFlipped})
-    for (const auto& row : table3) {
-      Case c{OperatingPoint(), o};
-      c.op.speed_mps = row[0];
-      c.op.slip_angle_rad = -row[1] * units::kDegree;
-      c.op.load_n = row[2];
-      c.op.path_curvature_per_m = 1.0 / 0.060;
-      out.push_back(c);
-    }
-  return out;
-}
-
-std::vector<Case> roadCases() {
+std::vector<Condition> roadCases() {
   // {Fz [N], alpha [deg], kappa, V [m/s], curvature [1/m]}
   const double rows[][5] = {{150, 0, -0.2, 0.5, 0},  {50, 0, -0.05, 40, 0.2}, {50, 0, 0.05, 40, 0.2},
                             {100, 3, 0, 5, 0.2},     {100, 10, 0, 5, 0},      {100, 25, 0, 20, 0.2},
@@ -50,9 +33,9 @@ std::vector<Case> roadCases() {
                             {150, 0, -0.05, 0.5, 0.2}, {150, 0, 0, 40, 0.2},   {150, 1, 0, 40, 0.2},
                             {150, 0, 0.05, 0.5, 0},  {50, 0, 0.2, 5, 0},     {100, 0, 0, 5, 0.2},
                             {50, 6, -0.05, 5, 0},    {100, 15, 0.2, 0.5, 0},  {150, 6, -0.2, 5, 0}};
-  std::vector<Case> out;
+  std::vector<Condition> out;
   for (const auto& r : rows) {
-    Case c{OperatingPoint(), TurnSlipOrientation::kLiteral};
+    Condition c;
     c.op.load_n = r[0];
     c.op.slip_angle_rad = r[1] * units::kDegree;
     c.op.slip_ratio = r[2];
@@ -63,9 +46,9 @@ std::vector<Case> roadCases() {
   return out;
 }
 
-void checkPreset(Preset preset, const std::vector<Case>& cases, const Bounds& bounds) {
+void checkPreset(Preset preset, const std::vector<Condition>& cases, const Bounds& bounds) {
   const TireParams params;
-  for (const Case& c : cases) {
+  for (const Condition& c : cases) {
     const BrushWearModel ref(params, presetOptions(Preset::kReference, c.orientation));
     const BrushWearModel model(params, presetOptions(preset, c.orientation));
     WearResult r0, r;
@@ -89,21 +72,26 @@ void checkPreset(Preset preset, const std::vector<Case>& cases, const Bounds& bo
 // it meets them for Fx and Fy (0.37% and 0.67% with the entry-transient grid) but not for Mz (1.8% with
 // 24 strips on the entry-transient grid, 6.6% with 12), W_r and the fractions, and the measured maxima
 // are asserted.
-TEST(PresetAccuracy, StandardOnTable3Rig) { checkPreset(Preset::kStandard, rigCases(), {0.01, 0.01, 0.02, 0.02}); }
+TEST(PresetAccuracy, StandardOnTable3Rig) { checkPreset(Preset::kStandard, bench::rigConditions(), {0.01, 0.01, 0.02, 0.02}); }
 TEST(PresetAccuracy, StandardOnRoadGrid) { checkPreset(Preset::kStandard, roadCases(), {0.007, 0.02, 0.09, 0.03}); }
-TEST(PresetAccuracy, FastOnTable3Rig) { checkPreset(Preset::kFast, rigCases(), {0.015, 0.04, 0.02, 0.02}); }
+TEST(PresetAccuracy, FastOnTable3Rig) { checkPreset(Preset::kFast, bench::rigConditions(), {0.015, 0.04, 0.02, 0.02}); }
 TEST(PresetAccuracy, FastOnRoadGrid) { checkPreset(Preset::kFast, roadCases(), {0.02, 0.06, 0.19, 0.07}); }
 // fine meets the issue 4 bounds on both grids (whole road grid against the marcher reference: Fx 0.11%,
 // Fy 0.17%, Mz 0.54%, W_r 1.48%, stick 0.005, exact stick 0.013), so those bounds are asserted on both.
-TEST(PresetAccuracy, FineOnTable3Rig) { checkPreset(Preset::kFine, rigCases(), {0.01, 0.01, 0.02, 0.02}); }
+TEST(PresetAccuracy, FineOnTable3Rig) { checkPreset(Preset::kFine, bench::rigConditions(), {0.01, 0.01, 0.02, 0.02}); }
 TEST(PresetAccuracy, FineOnRoadGrid) { checkPreset(Preset::kFine, roadCases(), {0.01, 0.01, 0.02, 0.02}); }
+// ... and between the grid's points: on 40 points drawn inside the road grid's envelope (bench::randomRoadConditions;
+// 7000 such points in docs/performance.md, W_r at most 1.95%).
+TEST(PresetAccuracy, FineBetweenTheRoadGridPoints) {
+  checkPreset(Preset::kFine, bench::randomRoadConditions(100.0, 40, 2026), {0.01, 0.01, 0.02, 0.02});
+}
 
 // The presets are ordered: on the Table 3 rig conditions standard is at least as accurate as fast in
 // W_r summed over the grid (a refinement that did not help would be a wasted preset).
 TEST(PresetAccuracy, StandardImprovesOnFastForWearOnTheRig) {
   const TireParams params;
   double err_fast = 0.0, err_standard = 0.0;
-  for (const Case& c : rigCases()) {
+  for (const Condition& c : bench::rigConditions()) {
     WearResult r0, rf, rs;
     BrushWearModel(params, presetOptions(Preset::kReference, c.orientation)).evaluate(c.op, &r0);
     BrushWearModel(params, presetOptions(Preset::kFast, c.orientation)).evaluate(c.op, &rf);
