@@ -96,6 +96,10 @@ void shoulderPanels(int n, double n_y, std::vector<double>* nodes, std::vector<d
   }
 }
 
+/// g^-q for a pressure shape value g (x or y factor of sat(p), Eq 11: (p/p_ref)^-q separates with p); 0 where
+/// g = 0 (the edge, where p = 0 and sat(p) is the floor's anyway).
+double shapeSaturation(double g, double q) { return g > 0.0 ? std::pow(g, -q) : 0.0; }
+
 using march::Bdf2;
 
 /// BDF2 coefficients for the step ratio w = h_i / h_{i-1}; w = 0 gives BDF1 (a restart).
@@ -153,7 +157,7 @@ BrushWearModel::YGrid BrushWearModel::makeYGrid(int n_strips) const {
   }
   for (int j = 0; j < n_strips; ++j) {
     g.gy[j] = gy(g.eta[j]);
-    g.sat_y[j] = g.gy[j] > 0.0 ? std::pow(g.gy[j], -params_.friction.q) : 0.0;
+    g.sat_y[j] = shapeSaturation(g.gy[j], params_.friction.q);
   }
   g.symmetric = fp.y_e_m == 0.0;
   for (int j = 0, k = n_strips - 1; j < n_strips && g.symmetric; ++j, --k)
@@ -183,12 +187,11 @@ BrushWearModel::XGrid BrushWearModel::makeXGrid(double leading_grading) const {
     const Bdf2 c = bdf2Coefficients(w);
     g.steps[i] = Step{ds, c.a1, c.a2, c.beta, i > 0 ? w : 1.0};
   }
-  auto satOf = [&](double gx_even) { return gx_even > 0.0 ? std::pow(gx_even, -params_.friction.q) : 0.0; };
   g.gx_even.resize(n + 1);
   g.sat_gx.resize(n + 1);
   for (int i = 0; i <= n; ++i) {
     g.gx_even[i] = gx_.even(g.s[i]);
-    g.sat_gx[i] = satOf(g.gx_even[i]);
+    g.sat_gx[i] = shapeSaturation(g.gx_even[i], params_.friction.q);
   }
   const int fine = 1 << options_.refinement.max_level;  // substeps of the finest level per step
   g.sub_gx_even.resize(static_cast<size_t>(n) * (fine - 1));
@@ -197,7 +200,7 @@ BrushWearModel::XGrid BrushWearModel::makeXGrid(double leading_grading) const {
     for (int m = 1; m < fine; ++m) {
       const size_t k = static_cast<size_t>(i) * (fine - 1) + (m - 1);
       g.sub_gx_even[k] = gx_.even(g.s[i] - m * (g.steps[i].ds / fine));
-      g.sub_sat_gx[k] = satOf(g.sub_gx_even[k]);
+      g.sub_sat_gx[k] = shapeSaturation(g.sub_gx_even[k], params_.friction.q);
     }
   return g;
 }
