@@ -8,7 +8,8 @@
 /// (Fx, Fy, Mz 1%, W_r 2%, stick fraction 0.02) and the worst condition. The reference is
 /// the marcher's 'reference' preset (default) or ReferenceBrushSolver (CVODE, default options); where
 /// the CVODE solver throws, that condition falls back to the marcher reference and is counted.
-/// --points writes every condition's errors (fractions) per candidate and grid to a CSV.
+/// --points writes every condition's errors (fractions) per candidate and grid to a CSV, with its CPU time
+/// under --time (cpu_us; 0 without).
 /// --refine sets BrushOptions::refinement of the --grid candidates that follow it (default: off), --entry
 /// their entry-transient grid (GridSpec::entry_transit_periods, entry_grading; default: off), --entry-strips
 /// its lateral strips (GridSpec::entry_strips; default 0: NY).
@@ -95,10 +96,10 @@ void report(const std::string& name, const std::string& set, const std::vector<b
     for (int q = 0; q < 5; ++q) over[q] += ratio[q] > 1.0;
     if (points) {
       const OperatingPoint& op = conditions[k].op;
-      std::fprintf(points, "\"%s\",%s,%s,%g,%g,%g,%g,%g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", name.c_str(), set.c_str(),
+      std::fprintf(points, "\"%s\",%s,%s,%g,%g,%g,%g,%g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.3g\n", name.c_str(), set.c_str(),
                    conditions[k].orientation == TurnSlipOrientation::kLiteral ? "literal" : "flipped", op.speed_mps,
                    op.slip_angle_rad / units::kDegree, op.slip_ratio, op.path_curvature_per_m, op.load_n, e.fx, e.fy,
-                   e.mz, e.wear, e.stick, e.exact_stick);
+                   e.mz, e.wear, e.stick, e.exact_stick, cpu_us.empty() ? 0.0 : cpu_us[k]);
     }
     const double f = std::max({e.fx, e.fy, e.mz}) / 0.01, w = e.wear / 0.02, a = std::max(e.stick, e.exact_stick) / 0.02;
     const double v[3] = {f, w, a};
@@ -225,7 +226,7 @@ int main(int argc, char** argv) {
       return 1;
     }
     std::fprintf(points, "candidate,grid,orientation,speed_mps,slip_angle_deg,slip_ratio,path_curvature_per_m,load_n,"
-                         "err_fx,err_fy,err_mz,err_wear,err_stick,err_exact_stick\n");
+                         "err_fx,err_fy,err_mz,err_wear,err_stick,err_exact_stick,cpu_us\n");
   }
   std::printf("%-28s %-5s %8s %8s %8s %8s %7s %7s\n", "preset", "grid", "Fx", "Fy", "Mz", "W_r", "stick", "exact");
   for (const Candidate& c : candidates) {
