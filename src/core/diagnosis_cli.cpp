@@ -1,5 +1,6 @@
 #include "tread_wear/core/diagnosis/cli.h"
 
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -110,8 +111,11 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
     out << "mismatch_found: " << (result.mismatch_found ? "true" : "false") << "\nexplanation: " << result.explanation
         << "\n";
     for (const std::string& c : result.unexplained_covariates) out << "residual follows: " << c << "\n";
-    out << "held-out RMSER side force " << result.base.cv_rmser[0] << " -> " << result.final_model.cv_rmser[0]
-        << ", wear " << result.base.cv_rmser[1] << " -> " << result.final_model.cv_rmser[1] << "\n";
+    char held_out[160];
+    std::snprintf(held_out, sizeof(held_out), "held-out RMSER: side force %.2f%% -> %.2f%%, wear %.2f%% -> %.2f%%\n",
+                  100.0 * result.base.cv_rmser[0], 100.0 * result.final_model.cv_rmser[0],
+                  100.0 * result.base.cv_rmser[1], 100.0 * result.final_model.cv_rmser[1]);
+    out << held_out;
     out << "report: " << (dir / "report.md").string() << "\n";
     return 0;
   } catch (const std::exception& ex) {

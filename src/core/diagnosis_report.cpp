@@ -178,6 +178,9 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
     m << "| " << f.label << " | " << f.parent << " | " << f.k << " | " << g(f.aicc) << " | " << g(f.bic) << " | "
       << g(f.p_vs_parent, 2) << " | " << (f.eligible ? "yes" : "no") << " | "
       << (f.cv_done ? pct(f.cv_rmser[0]) : "") << " | " << (f.cv_done ? pct(f.cv_rmser[1]) : "") << " |\n";
+  m << "\nEach candidate is fitted with the output weights of the model it extends (relative residuals divided by "
+       "that model's RMSER per output); an accepted model is refitted with its own, so the verdict's numbers differ "
+       "slightly from its row here.\n";
   if (!r.skipped_terms.empty()) {
     m << "\nNot applicable to these recordings:\n";
     for (const std::string& s : r.skipped_terms) m << "- " << s << "\n";
