@@ -1,15 +1,22 @@
 # Mismatch diagnosis tools. tread_wear_diagnose, tread_wear_conceal and tread_wear_diagnosis_harness come from the
 # generic tools glob (cmake/tools.cmake); this fragment points tread_wear_diagnose at the plotting script and, when
-# catkin's rosbag is available, adds the bag adapter (src/tools/ros/diagnosis_bag.cpp) for --bag.
+# the rosbag tools are built (cmake/drive.cmake), adds the bag adapter (src/tools/ros/diagnosis_bag.cpp) for --bag.
 if(TARGET tread_wear_diagnose)
   target_compile_definitions(tread_wear_diagnose PRIVATE
                              TREAD_WEAR_PLOT_SCRIPT="${PROJECT_SOURCE_DIR}/scripts/plot_diagnosis.py")
-  if(rosbag_FOUND)
-    target_sources(tread_wear_diagnose PRIVATE ${PROJECT_SOURCE_DIR}/src/tools/ros/diagnosis_bag.cpp)
-    target_include_directories(tread_wear_diagnose PRIVATE ${PROJECT_SOURCE_DIR}/src/tools
-                               ${CATKIN_DEVEL_PREFIX}/include ${catkin_INCLUDE_DIRS})
-    target_link_libraries(tread_wear_diagnose ${catkin_LIBRARIES})
+  if(TARGET tread_wear_bag_io)
+    add_library(tread_wear_diagnosis_bag STATIC ${PROJECT_SOURCE_DIR}/src/tools/ros/diagnosis_bag.cpp)
+    target_link_libraries(tread_wear_diagnosis_bag PUBLIC tread_wear_bag_io)
+    add_dependencies(tread_wear_diagnosis_bag ${PROJECT_NAME}_generate_messages_cpp)
+    target_link_libraries(tread_wear_diagnose tread_wear_diagnosis_bag)
     target_compile_definitions(tread_wear_diagnose PRIVATE TREAD_WEAR_DIAGNOSIS_ROSBAG)
-    add_dependencies(tread_wear_diagnose ${PROJECT_NAME}_generate_messages_cpp)
+    if(CATKIN_ENABLE_TESTING)
+      catkin_add_gtest(test_diagnosis_bag ${PROJECT_SOURCE_DIR}/test/ros/test_diagnosis_bag.cpp
+                       WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+      target_link_libraries(test_diagnosis_bag tread_wear_diagnosis_bag GTest::gtest_main)
+      target_compile_definitions(test_diagnosis_bag PRIVATE TREAD_WEAR_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
+                                 TREAD_WEAR_PYTHON_PATH="${CATKIN_DEVEL_PREFIX}/${CATKIN_GLOBAL_PYTHON_DESTINATION}")
+      set_target_properties(test_diagnosis_bag PROPERTIES EXCLUDE_FROM_ALL OFF)
+    endif()
   endif()
 endif()

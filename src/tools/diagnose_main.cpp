@@ -3,7 +3,7 @@
 
 #include "tread_wear/core/diagnosis/cli.h"
 #ifdef TREAD_WEAR_DIAGNOSIS_ROSBAG
-#include "ros/diagnosis_bag.h"
+#include "diagnosis_bag.h"
 #endif
 #ifndef TREAD_WEAR_PLOT_SCRIPT
 #define TREAD_WEAR_PLOT_SCRIPT ""
