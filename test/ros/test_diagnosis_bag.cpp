@@ -36,9 +36,7 @@ class DiagnosisBagWriter {
     bag_.open(path_, rosbag::bagmode::Write);
   }
   void inputs(double t, double speed_mps, double slip_angle_rad, double load_n, double temperature_c) {
-    WheelSpeed v;
-    v.speed_mps = speed_mps;
-    write("speed", t, v);
+    speed(t, speed_mps);
     WheelSlip s;
     s.slip_angle_rad = slip_angle_rad;
     s.slip_ratio = 0.01;
