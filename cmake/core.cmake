@@ -29,3 +29,13 @@ else()
   set_source_files_properties(${TREAD_WEAR_SIMD_SOURCES} PROPERTIES HEADER_FILE_ONLY ON)
   message(STATUS "tread_wear: SIMD marcher kernels off (strips one at a time)")
 endif()
+
+# A GoogleTest binary over the given libraries, registered with ctest by catkin and built by default (build + ctest
+# suffice), run from the source tree, which it knows as TREAD_WEAR_SOURCE_DIR. Used by cmake/tests.cmake and the
+# tool fragments that test their rosbag parts (drive.cmake, diagnosis.cmake).
+function(tread_wear_add_gtest name source)
+  catkin_add_gtest(${name} ${source} WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+  target_link_libraries(${name} ${ARGN} GTest::gtest_main)
+  target_compile_definitions(${name} PRIVATE TREAD_WEAR_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+  set_target_properties(${name} PROPERTIES EXCLUDE_FROM_ALL OFF)
+endfunction()

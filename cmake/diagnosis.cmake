@@ -11,12 +11,10 @@ if(TARGET tread_wear_diagnose)
     target_link_libraries(tread_wear_diagnose tread_wear_diagnosis_bag)
     target_compile_definitions(tread_wear_diagnose PRIVATE TREAD_WEAR_DIAGNOSIS_ROSBAG)
     if(CATKIN_ENABLE_TESTING)
-      catkin_add_gtest(test_diagnosis_bag ${PROJECT_SOURCE_DIR}/test/ros/test_diagnosis_bag.cpp
-                       WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
-      target_link_libraries(test_diagnosis_bag tread_wear_diagnosis_bag GTest::gtest_main)
-      target_compile_definitions(test_diagnosis_bag PRIVATE TREAD_WEAR_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
+      tread_wear_add_gtest(test_diagnosis_bag ${PROJECT_SOURCE_DIR}/test/ros/test_diagnosis_bag.cpp
+                           tread_wear_diagnosis_bag)
+      target_compile_definitions(test_diagnosis_bag PRIVATE
                                  TREAD_WEAR_PYTHON_PATH="${CATKIN_DEVEL_PREFIX}/${CATKIN_GLOBAL_PYTHON_DESTINATION}")
-      set_target_properties(test_diagnosis_bag PROPERTIES EXCLUDE_FROM_ALL OFF)
     endif()
   endif()
 endif()

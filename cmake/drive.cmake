@@ -15,11 +15,7 @@ foreach(tool drive replay)
 endforeach()
 
 if(CATKIN_ENABLE_TESTING)
-  catkin_add_gtest(test_drive_replay ${PROJECT_SOURCE_DIR}/test/ros/test_drive_replay.cpp
-                   WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
-  target_link_libraries(test_drive_replay tread_wear_bag_io GTest::gtest_main)
-  target_compile_definitions(test_drive_replay PRIVATE TREAD_WEAR_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
-                             TREAD_WEAR_REPLAY_BINARY="$<TARGET_FILE:tread_wear_replay>")
+  tread_wear_add_gtest(test_drive_replay ${PROJECT_SOURCE_DIR}/test/ros/test_drive_replay.cpp tread_wear_bag_io)
+  target_compile_definitions(test_drive_replay PRIVATE TREAD_WEAR_REPLAY_BINARY="$<TARGET_FILE:tread_wear_replay>")
   add_dependencies(test_drive_replay tread_wear_replay)
-  set_target_properties(test_drive_replay PROPERTIES EXCLUDE_FROM_ALL OFF)
 endif()

@@ -2,10 +2,7 @@
 file(GLOB TREAD_WEAR_CORE_TESTS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/test/core/test_*.cpp)
 foreach(src ${TREAD_WEAR_CORE_TESTS})
   get_filename_component(name ${src} NAME_WE)
-  catkin_add_gtest(${name} ${src} WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
-  target_link_libraries(${name} tread_wear_core GTest::gtest_main)
-  target_compile_definitions(${name} PRIVATE TREAD_WEAR_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
-                             TREAD_WEAR_BINARY_DIR="${CATKIN_DEVEL_PREFIX}/lib/${PROJECT_NAME}")
-  set_target_properties(${name} PROPERTIES EXCLUDE_FROM_ALL OFF)
+  tread_wear_add_gtest(${name} ${src} tread_wear_core)
+  target_compile_definitions(${name} PRIVATE TREAD_WEAR_BINARY_DIR="${CATKIN_DEVEL_PREFIX}/lib/${PROJECT_NAME}")
 endforeach()
 include(cmake/rostests.cmake OPTIONAL)
