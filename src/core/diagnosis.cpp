@@ -458,6 +458,12 @@ DiagnosisResult diagnose(const TireParams& base, const DiagnosisData& data, cons
     else if (!better) line << ", not better out of sample: stop";
     else line << (accept ? ", accepted" : ": stop");
     result.log.push_back(line.str());
+    if (accept)
+      for (int i : eligible) {
+        const double delta = fits[i].aicc - fits[best].aicc;
+        if (i != best && delta < options.min_aicc_drop)
+          result.close_alternatives.push_back({fits[i].label, fits[best].label, delta});
+      }
     for (FittedModel& f : fits) result.tried.push_back(f);
     if (!accept) break;
     current = reweight(fits[best]);

@@ -111,6 +111,12 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
     out << "mismatch_found: " << (result.mismatch_found ? "true" : "false") << "\nexplanation: " << result.explanation
         << "\n";
     for (const std::string& c : result.unexplained_covariates) out << "residual follows: " << c << "\n";
+    for (const CloseAlternative& c : result.close_alternatives) {
+      char line[200];
+      std::snprintf(line, sizeof(line), "about as well supported: %s instead of %s (AICc %+.2f)\n", c.model.c_str(),
+                    c.instead_of.c_str(), c.delta_aicc);
+      out << line;
+    }
     char held_out[160];
     std::snprintf(held_out, sizeof(held_out), "held-out RMSER: side force %.2f%% -> %.2f%%, wear %.2f%% -> %.2f%%\n",
                   100.0 * result.base.cv_rmser[0], 100.0 * result.final_model.cv_rmser[0],

@@ -100,6 +100,8 @@ HarnessOutcome scoreCase(const HarnessCase& c, const ConcealAnswer& answer, cons
   o.c = c;
   o.explanation = result.explanation;
   o.right = result.explanation == answer.effect;
+  o.named = o.right || std::any_of(result.close_alternatives.begin(), result.close_alternatives.end(),
+                                   [&](const CloseAlternative& a) { return a.model == answer.effect; });
   for (int k = 0; k < kNumOutputs; ++k) {
     o.cv_before[k] = result.base.cv_rmser[k];
     o.cv_after[k] = result.final_model.cv_rmser[k];
@@ -171,7 +173,7 @@ std::vector<HarnessOutcome> runHarness(const TireParams& base, const HarnessOpti
 
 std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
   struct Tally {
-    int n = 0, right = 0, pscored = 0, pok = 0, pok_relative = 0, pestimated = 0, pcovered = 0, iscored = 0, iok = 0,
+    int n = 0, right = 0, named = 0, pscored = 0, pok = 0, pok_relative = 0, pestimated = 0, pcovered = 0, iscored = 0, iok = 0,
         all_met = 0, errors = 0;
   };
   std::map<std::tuple<std::string, std::string, double>, Tally> rows;
@@ -186,6 +188,7 @@ std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
         continue;
       }
       t->right += o.right;
+      t->named += o.named;
       t->pscored += o.parameter_scored;
       t->pok += o.parameter_ok;
       t->pok_relative += o.parameter_ok_relative;
@@ -221,6 +224,7 @@ std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
       Tally& dst = e == "none" ? totals[key.second].second : totals[key.second].first;
       dst.n += t.n - t.errors;
       dst.right += t.right;
+      dst.named += t.named;
       dst.pok += t.pok;
       dst.pok_relative += t.pok_relative;
       dst.all_met += t.all_met;
@@ -238,7 +242,9 @@ std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
       << "), held-out RMSER improved " << pctWithInterval(effects.iok, effects.iscored) << "; controls `none` "
       << pctWithInterval(controls.right, controls.n) << ". Parameter within 25% of its own value (|estimate - "
       << "truth| <= 0.25 |truth|) " << pctWithInterval(effects.pok_relative, effects.pscored)
-      << "; right, parameter and improved in the same case " << pctWithInterval(effects.all_met, effects.n) << ".\n";
+      << "; right, parameter and improved in the same case " << pctWithInterval(effects.all_met, effects.n)
+      << ". The hidden term named as the explanation or as a close alternative "
+      << pctWithInterval(effects.named, effects.n) << ".\n";
   }
   return s.str();
 }
@@ -246,12 +252,12 @@ std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
 std::string harnessCsv(const std::vector<HarnessOutcome>& outcomes) {
   std::ostringstream s;
   s << std::setprecision(8);
-  s << "effect,magnitude_label,magnitude,wear_noise_rsd,side_force_noise_n,seed,explanation,right,parameter_ok,"
+  s << "effect,magnitude_label,magnitude,wear_noise_rsd,side_force_noise_n,seed,explanation,right,named,parameter_ok,"
        "parameter_ok_relative,all_met,estimate,truth,std_error,covered,improved,cv_before_side_force,cv_before_wear,cv_after_side_force,cv_after_wear,seconds,error\n";
   for (const HarnessOutcome& o : outcomes)
     s << o.c.spec.effect << "," << o.c.magnitude_label << "," << o.c.spec.magnitude << "," << o.c.spec.wear_noise_rsd
       << "," << o.c.spec.side_force_noise_n << "," << o.c.spec.seed << "," << o.explanation << "," << o.right << ","
-      << (o.parameter_scored ? std::to_string(o.parameter_ok) : "") << ","
+      << o.named << "," << (o.parameter_scored ? std::to_string(o.parameter_ok) : "") << ","
       << (o.parameter_scored ? std::to_string(o.parameter_ok_relative) : "") << ","
       << (o.c.spec.effect == "none" ? "" : std::to_string(o.all_met)) << "," << o.estimate << "," << o.truth << ","
       << o.std_error << "," << (o.parameter_estimated ? std::to_string(o.parameter_covered) : "") << ","

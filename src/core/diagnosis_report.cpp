@@ -82,6 +82,10 @@ nlohmann::json diagnosisJson(const DiagnosisResult& r, const DiagnosisData& data
     if (e.significant) after.push_back(effectJson(e));
   j["remaining_after"] = after;
   j["unexplained_covariates"] = r.unexplained_covariates;
+  nlohmann::json alternatives = nlohmann::json::array();
+  for (const CloseAlternative& a : r.close_alternatives)
+    alternatives.push_back({{"model", a.model}, {"instead_of", a.instead_of}, {"delta_aicc", a.delta_aicc}});
+  j["close_alternatives"] = alternatives;
   nlohmann::json params = nlohmann::json::object();
   for (const ParameterEstimate& p : r.final_model.summary.parameters)
     params[p.name] = {{"value", p.value}, {"std_error", num(p.std_error)}, {"lower", p.lower}, {"upper", p.upper},
@@ -147,6 +151,11 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
     const TermInfo& info = termInfo(t);
     m << "  - `" << info.name << "`" << (info.physical ? "" : " (sensor, not physics)") << ": " << info.statement << "\n";
   }
+  for (const CloseAlternative& a : r.close_alternatives)
+    m << "- about as well supported: `" << a.model << "` instead of `" << a.instead_of << "` (AICc "
+      << (a.delta_aicc >= 0.0 ? "+" : "") << g(a.delta_aicc, 2)
+      << "): these recordings cannot tell the two apart; runs that separate them would (for a sensor gain and "
+         "offset: low side forces, or a zero-load check of the transducer)\n";
   if (!r.unexplained_covariates.empty()) {
     m << "- no library term explains it; the residual follows:";
     for (const std::string& c : r.unexplained_covariates) m << " `" << c << "`";

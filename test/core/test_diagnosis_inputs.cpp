@@ -182,6 +182,8 @@ TEST(DiagnosisHarness, TableTotalsPerNoiseLevel) {
   for (int k : {0, 1}) outcomes[k].parameter_scored = true;
   outcomes[0].parameter_estimated = outcomes[0].parameter_covered = outcomes[0].parameter_ok = true;
   outcomes[0].parameter_ok_relative = outcomes[0].all_met = true;
+  // Named: the right case, and the wrong 5% case whose hidden term was reported as a close alternative.
+  for (int k : {0, 1, 3}) outcomes[k].named = true;
   const std::string table = harnessTable(outcomes);
   // Summary rates carry 95% Wilson intervals (1/2: 9.5-90.5%, 1/1: 20.7-100%, by hand from Newcombe's formula).
   EXPECT_NE(table.find("At wear RSD 5%: right explanation 50.0% (1/2) [95% CI 9.5-90.5%], parameter within 25% "
@@ -191,7 +193,8 @@ TEST(DiagnosisHarness, TableTotalsPerNoiseLevel) {
       << table;
   EXPECT_NE(table.find("controls `none` 100% (1/1) [95% CI 20.7-100.0%]. Parameter within 25% of its own value "
                        "(|estimate - truth| <= 0.25 |truth|) 50.0% (1/2) [95% CI 9.5-90.5%]; right, parameter and "
-                       "improved in the same case 50.0% (1/2) [95% CI 9.5-90.5%]."),
+                       "improved in the same case 50.0% (1/2) [95% CI 9.5-90.5%]. The hidden term named as the "
+                       "explanation or as a close alternative 100% (2/2) [95% CI 34.2-100.0%]."),
             std::string::npos)
       << table;
   EXPECT_NE(table.find("At wear RSD 10%: right explanation 100% (1/1)"), std::string::npos) << table;
@@ -224,6 +227,7 @@ TEST(DiagnosisCli, DocumentedExampleWritesTheReport) {
   std::ifstream(kSource + "/examples/diagnosis/polishing_answer.json") >> answer;
   EXPECT_EQ(j["mismatch_found"], true);
   EXPECT_EQ(j["explanation"], "surface_polishing");
+  EXPECT_TRUE(j["close_alternatives"].empty()) << "no other term fits about as well";
   // Located: the wear residual follows the sliding distance on the current surface, significantly.
   ASSERT_FALSE(j["located"].empty());
   EXPECT_EQ(j["located"][0]["output"], "wear");

@@ -23,7 +23,10 @@
 ///     terms (pairs by default) or when nothing is accepted.
 ///  5. Verdict: explanation = the accepted terms ("a+b"); "unexplained" when the locating tests found a
 ///     significant mismatch but no term was accepted (the covariates the residual follows are listed); "none"
-///     when neither found anything. mismatch_found is true unless the verdict is "none".
+///     when neither found anything. mismatch_found is true unless the verdict is "none". Close alternatives: the
+///     eligible candidates of an accepting step whose AICc is less than min_aicc_drop above the accepted model's,
+///     i.e. not substantially worse supported (Burnham and Anderson's Delta AICc < 2): the recordings cannot tell them
+///     from the explanation (a sensor gain and a sensor offset, where the design has few low-slip runs).
 /// Limits: the F test and AICc assume independent, roughly normal weighted residuals; with few runs (the paper's
 /// nine means) they are indicative only, which the report says.
 
@@ -95,6 +98,14 @@ struct FittedModel {
   bool eligible = false;
 };
 
+/// An eligible candidate that the recordings support about as well as the model accepted at its step.
+struct CloseAlternative {
+  std::string model;       ///< label of the candidate, e.g. "sensor_offset"
+  std::string instead_of;  ///< label of the model accepted at that step
+  double delta_aicc = 0.0; ///< candidate's AICc minus the accepted model's, < min_aicc_drop [-] (negative: a
+                           ///< lower AICc, accepted model chosen by its held-out error)
+};
+
 struct DiagnosisResult {
   double noise_scale[kNumOutputs] = {0.0, 0.0};  ///< weights of the relative residuals in the last step [-]
   double pure_error[kNumOutputs] = {0.0, 0.0};    ///< pooled relative spread of repeats [-]; NaN without repeats
@@ -111,6 +122,7 @@ struct DiagnosisResult {
   bool mismatch_found = false;
   std::string explanation;                        ///< library name, "a+b", "none" or "unexplained"
   std::vector<std::string> unexplained_covariates;
+  std::vector<CloseAlternative> close_alternatives;  ///< of every accepting step (step 5 above)
   std::vector<std::string> log;                   ///< the selection steps in words
 };
 

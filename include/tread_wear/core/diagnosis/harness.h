@@ -36,6 +36,7 @@ struct HarnessOutcome {
   HarnessCase c;
   std::string explanation;
   bool right = false;
+  bool named = false;  ///< right, or the hidden term is a close alternative of the explanation (diagnosis.h)
   bool parameter_scored = false, parameter_ok = false, parameter_ok_relative = false;
   bool all_met = false;  ///< right, parameter_ok (when scored) and improved (when scored) together
   bool parameter_estimated = false, parameter_covered = false;  ///< the term was selected; truth within 2 SE
