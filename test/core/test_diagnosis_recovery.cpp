@@ -73,6 +73,25 @@ ConcealSpec rigNoiseCase(const std::string& effect, double magnitude, std::uint6
   return spec;
 }
 
+/// A harness case at rig noise, generated with the Grosch wheel and diagnosed as the harness does (the case's
+/// seed for the permutations).
+struct RigNoiseDiagnosis {
+  ConcealSpec spec;
+  ConcealCase c;
+  DiagnosisOptions options;
+  DiagnosisResult result;
+};
+
+RigNoiseDiagnosis diagnoseRigNoiseCase(const std::string& effect, double magnitude, std::uint64_t seed) {
+  const TireParams base = loadTireParams(kGroschParams);
+  RigNoiseDiagnosis d;
+  d.spec = rigNoiseCase(effect, magnitude, seed);
+  d.c = concealEffect(base, d.spec);
+  d.options.seed = seed;
+  d.result = diagnose(base, buildDiagnosisData(d.c.table), d.options);
+  return d;
+}
+
 const FittedModel* findTried(const DiagnosisResult& r, const std::string& label) {
   for (const FittedModel& f : r.tried)
     if (f.label == label) return &f;
@@ -161,19 +180,15 @@ TEST(DiagnosisRecovery, ChanceSecondTermIsNotAccepted) {
   // Harness case surface_polishing large, seed 1046: by chance the 50 N runs read ~1.5 N high, and a side-force
   // term (pressure_friction) lowers the held-out error after the polishing term (score 0.97 vs 1.11), but only on
   // those few runs: the paired rank test over the runs does not reach alpha_select, so the pair is refused.
-  const TireParams base = loadTireParams(kGroschParams);
-  const ConcealSpec spec = rigNoiseCase("surface_polishing", 0.8, 1046);
-  const ConcealCase c = concealEffect(base, spec);
-  DiagnosisOptions opt;
-  opt.seed = spec.seed;
-  const DiagnosisResult r = diagnose(base, buildDiagnosisData(c.table), opt);
+  const RigNoiseDiagnosis d = diagnoseRigNoiseCase("surface_polishing", 0.8, 1046);
+  const DiagnosisResult& r = d.result;
   EXPECT_EQ(r.explanation, "surface_polishing");
   const FittedModel* pair = findTried(r, "surface_polishing+pressure_friction");
   const FittedModel* single = findTried(r, "surface_polishing");
   ASSERT_NE(pair, nullptr);
   ASSERT_NE(single, nullptr);
   EXPECT_LT(pair->cv_score, r.final_model.cv_score) << "lower held out, the old acceptance rule";
-  EXPECT_GE(pair->p_held_out, opt.alpha_select);
+  EXPECT_GE(pair->p_held_out, d.options.alpha_select);
 }
 
 // Harness case sensor_gain large (1.10), seed 5119: with mu_scale free, a gain and an offset of the side-force
@@ -181,12 +196,8 @@ TEST(DiagnosisRecovery, ChanceSecondTermIsNotAccepted) {
 // only the low-slip runs tell them apart). Whichever is chosen, the other is reported as a close alternative, and
 // scoring counts the hidden term as named though not as the explanation.
 TEST(DiagnosisRecovery, IndistinguishableTermIsReportedAsCloseAlternative) {
-  const TireParams base = loadTireParams(kGroschParams);
-  const ConcealSpec spec = rigNoiseCase("sensor_gain", 1.10, 5119);
-  const ConcealCase c = concealEffect(base, spec);
-  DiagnosisOptions opt;
-  opt.seed = spec.seed;
-  const DiagnosisResult r = diagnose(base, buildDiagnosisData(c.table), opt);
+  const RigNoiseDiagnosis d = diagnoseRigNoiseCase("sensor_gain", 1.10, 5119);
+  const DiagnosisResult& r = d.result;
   ASSERT_TRUE(r.explanation == "sensor_gain" || r.explanation == "sensor_offset") << r.explanation;
   const std::string other = r.explanation == "sensor_gain" ? "sensor_offset" : "sensor_gain";
   ASSERT_EQ(r.close_alternatives.size(), 1u);
@@ -197,8 +208,8 @@ TEST(DiagnosisRecovery, IndistinguishableTermIsReportedAsCloseAlternative) {
   ASSERT_NE(alternative, nullptr);
   ASSERT_NE(chosen, nullptr);
   EXPECT_DOUBLE_EQ(r.close_alternatives[0].delta_aicc, alternative->aicc - chosen->aicc);
-  EXPECT_LT(std::abs(r.close_alternatives[0].delta_aicc), opt.min_aicc_drop);
-  const HarnessOutcome o = scoreCase(HarnessCase{spec, "large"}, c.answer, r);
+  EXPECT_LT(std::abs(r.close_alternatives[0].delta_aicc), d.options.min_aicc_drop);
+  const HarnessOutcome o = scoreCase(HarnessCase{d.spec, "large"}, d.c.answer, r);
   EXPECT_TRUE(o.named);
   EXPECT_EQ(o.right, r.explanation == "sensor_gain");
 }
