@@ -4,6 +4,7 @@
 
 #include <cstdio>
 #include <exception>
+#include <iostream>
 #include <string>
 
 #include "bag_io.h"
@@ -27,8 +28,7 @@ int main(int argc, char** argv) {
   tread_wear::DriveOptions options;
   tread_wear::RouteParams route_params;
   auto usage_error = [](const std::string& message) {
-    std::fprintf(stderr, "tread_wear_drive: %s\n%s", message.c_str(), kUsage);
-    return 2;
+    return tread_wear::usageError(std::cerr, "tread_wear_drive", message, kUsage);
   };
   tread_wear::CommandLine args;
   std::string error;

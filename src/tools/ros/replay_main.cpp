@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <ctime>
 #include <exception>
+#include <iostream>
 #include <fstream>
 #include <string>
 #include <thread>
@@ -93,8 +94,7 @@ void showProgress(const std::atomic<std::uint64_t>& done, std::uint64_t total, c
 
 int main(int argc, char** argv) {
   auto usage_error = [](const std::string& message) {
-    std::fprintf(stderr, "tread_wear_replay: %s\n%s", message.c_str(), kUsage);
-    return 2;
+    return tread_wear::usageError(std::cerr, "tread_wear_replay", message, kUsage);
   };
   tread_wear::CommandLine args;
   std::string error;
