@@ -5,7 +5,8 @@
 ///
 /// Grids:
 ///  - rig: the seven distinct conditions of the paper's Table 3 (v0, alpha, Fz) as the Grip and
-///    Abrasion Test Stand runs them (slip_angle = -alpha, path radius +60 mm), in both orientations.
+///    Abrasion Test Stand runs them (slip_angle = -alpha, path radius +60 mm; table3RigConditions), in both
+///    orientations.
 ///  - road: load x slip angle (past the force peak, which is near 15 deg for the Grosch wheel at 100 N)
 ///    x slip ratio in [-0.2, 0.2] x speed 0.5..40 m/s x path curvature (straight and R = 5 m).
 ///  - random road: n points drawn inside the road grid's envelope (between its nodes), for accuracy
@@ -20,6 +21,7 @@
 #include <vector>
 
 #include "tread_wear/core/brush_wear_model.h"
+#include "tread_wear/core/convergence_study.h"
 #include "tread_wear/core/solver_errors.h"
 #include "tread_wear/core/units.h"
 
@@ -33,19 +35,17 @@ struct Condition {
 };
 
 inline std::vector<Condition> rigConditions() {
-  const double table3[7][3] = {{1, 10, 75}, {2, 10, 75}, {3, 10, 75}, {2, 5, 75}, {2, 15, 75}, {2, 10, 50}, {2, 10, 100}};
   std::vector<Condition> out;
   for (TurnSlipOrientation o : {TurnSlipOrientation::kLiteral, TurnSlipOrientation::kFlipped}) {
-    for (const auto& row : table3) {
+    for (const OperatingPoint& op : table3RigConditions()) {
       Condition c;
-      c.op.speed_mps = row[0];
-      c.op.slip_angle_rad = -row[1] * units::kDegree;
-      c.op.load_n = row[2];
-      c.op.path_curvature_per_m = 1.0 / 0.060;
+      c.op = op;
       c.orientation = o;
+      // alpha back in whole degrees as the table gives it (the radians do not round-trip exactly).
+      const double alpha_deg = std::round(-op.slip_angle_rad / units::kDegree * 1e9) / 1e9;
       c.label = std::string(o == TurnSlipOrientation::kLiteral ? "literal" : "flipped") + " v0=" +
-                std::to_string(row[0]).substr(0, 3) + " alpha=" + std::to_string(row[1]).substr(0, 4) +
-                " Fz=" + std::to_string(row[2]).substr(0, 5);
+                std::to_string(op.speed_mps).substr(0, 3) + " alpha=" + std::to_string(alpha_deg).substr(0, 4) +
+                " Fz=" + std::to_string(op.load_n).substr(0, 5);
       out.push_back(c);
     }
   }
