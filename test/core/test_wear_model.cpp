@@ -377,6 +377,8 @@ TEST(WearModelPresets, NamesRoundTripAndUnknownIsRejected) {
     Preset parsed = Preset::kFast;
     EXPECT_TRUE(parsePreset(presetName(p), &parsed));
     EXPECT_EQ(parsed, p);
+    // The messages' list of choices is written out once (kPresetChoices): it must name every preset.
+    EXPECT_NE(std::string(kPresetChoices).find(presetName(p)), std::string::npos) << presetName(p);
   }
   Preset untouched = Preset::kStandard;
   EXPECT_FALSE(parsePreset("ultra", &untouched));
