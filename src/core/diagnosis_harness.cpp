@@ -173,8 +173,8 @@ std::vector<HarnessOutcome> runHarness(const TireParams& base, const HarnessOpti
 
 std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
   struct Tally {
-    int n = 0, right = 0, named = 0, pscored = 0, pok = 0, pok_relative = 0, pestimated = 0, pcovered = 0, iscored = 0, iok = 0,
-        all_met = 0, errors = 0;
+    int n = 0, right = 0, named = 0, pscored = 0, pok = 0, pok_relative = 0, pestimated = 0, pcovered = 0,
+        iscored = 0, iok = 0, all_met = 0, errors = 0;
   };
   std::map<std::tuple<std::string, std::string, double>, Tally> rows;
   std::map<std::pair<std::string, double>, Tally> per_effect;
