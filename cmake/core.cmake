@@ -12,6 +12,9 @@ install(DIRECTORY config data launch DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINAT
 # Bounded nonlinear least squares for calibration (least_squares.h): Ceres Solver (Debian libceres-dev).
 find_package(Ceres REQUIRED)
 target_link_libraries(tread_wear_core PUBLIC Ceres::ceres)
+# Noncentral F distribution of the diagnosis's detectability reference: Boost.Math (header-only, Debian libboost-dev).
+find_package(Boost REQUIRED)
+target_link_libraries(tread_wear_core PRIVATE Boost::headers)
 # The marcher's x step on SIMD packs of strips with glibc's libmvec vector exp/log: four strips per AVX2 + FMA
 # pack (src/core/brush_march_avx2.cpp, compiled for AVX2, chosen at run time on CPUs that have it), else two
 # per SSE2 pack (the x86-64 baseline). Elsewhere, or with the option off, the strips run one at a time.

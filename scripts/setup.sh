@@ -21,6 +21,7 @@ TREAD_WEAR_APT_PACKAGES=(
   python3-tf2-msgs python3-diagnostic-msgs
   # numerics, I/O, tests, benchmarks
   libsundials-dev libeigen3-dev libceres-dev libyaml-cpp-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev
+  libboost-dev
   # plotting scripts
   python3-matplotlib python3-numpy
 )

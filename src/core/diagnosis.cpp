@@ -58,24 +58,7 @@ class Fitter {
       const auto it = start.find(p.name);
       if (it != start.end()) p.initial = std::clamp(it->second, p.lower, p.upper);
     }
-    std::vector<std::vector<FitParameter>> starts = {params};
-    const int tw = model.parameterOffset(Term::kThermalWear);
-    if (tw >= 0 && !start.count("t0_c")) {
-      // Eq 25 is a bowl in T: start below, inside and above the observed temperatures.
-      double lo = INFINITY, hi = -INFINITY;
-      for (const DiagnosisRun& r : data_.runs) {
-        lo = std::min(lo, r.tread_temperature_c);
-        hi = std::max(hi, r.tread_temperature_c);
-      }
-      const double span = std::max(hi - lo, 5.0);
-      for (double t0 : {lo - 0.5 * span, 0.5 * (lo + hi), hi + 0.5 * span}) {
-        std::vector<FitParameter> s = params;
-        s[tw].initial = std::clamp(t0, s[tw].lower, s[tw].upper);
-        s[tw + 1].initial = span;
-        starts.push_back(s);
-      }
-      starts.erase(starts.begin());
-    }
+    const std::vector<std::vector<FitParameter>> starts = model.fitStarts(params, start.count("t0_c") > 0);
     FittedModel best;
     bool have = false;
     for (const auto& s : starts) {

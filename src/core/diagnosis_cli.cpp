@@ -191,12 +191,13 @@ int runConcealCli(int argc, const char* const argv[], std::ostream& out, std::os
 int runHarnessCli(int argc, const char* const argv[], std::ostream& out, std::ostream& err) {
   const char* usage_text =
       "usage: tread_wear_diagnosis_harness --params FILE [--quick] [--design table2|small] [--repeats N]\n"
-      "       [--controls N] [--effects a,b] [--noise 0.05,0.10] [--one-magnitude] [--jobs N] [--seed N] [--csv OUT]\n";
+      "       [--controls N] [--effects a,b] [--noise 0.05,0.10] [--one-magnitude] [--information] [--jobs N]\n"
+      "       [--seed N] [--csv OUT]\n";
   CommandLine a;
   std::string parse_error;
   const bool parsed = a.parse(argc, argv,
                {"params", "design", "repeats", "controls", "effects", "noise", "jobs", "seed", "csv"},
-               {"quick", "one-magnitude"}, &parse_error);
+               {"quick", "one-magnitude", "information"}, &parse_error);
   auto usage = [&](const std::string& msg) { return usageError(err, "tread_wear_diagnosis_harness", msg, usage_text); };
   if (a.help()) {
     out << usage_text;
@@ -234,6 +235,7 @@ int runHarnessCli(int argc, const char* const argv[], std::ostream& out, std::os
     }
   }
   if (a.has("one-magnitude")) h.two_magnitudes = false;
+  h.information = a.has("information");
   for (const std::string& name : splitList(a.get("effects"))) {
     Term t;
     if (name != "none" && !parseTerm(name, &t)) return usage("--effects: '" + name + "' is not a library term");

@@ -158,7 +158,10 @@ ConcealCase concealEffect(const TireParams& base, const ConcealSpec& spec) {
   for (std::size_t j = 0; j < params.size(); ++j) ans.parameters[params[j].name] = values[j];
   Prediction pred;
   if (!truth.predict(values, &pred)) throw std::invalid_argument("the truth model cannot be evaluated for " + spec.effect);
+  out.noise_free = table;
   for (std::size_t i = 0; i < table.runs.size(); ++i) {
+    out.noise_free.runs[i].measured_side_force_n = pred.side_force_n[i];
+    out.noise_free.runs[i].measured_wear_rate_kg_per_m = pred.wear_kg_per_m[i];
     RunRecord& r = table.runs[i];
     r.measured_side_force_n = pred.side_force_n[i] + spec.side_force_noise_n * normal(rng);
     r.measured_wear_rate_kg_per_m = pred.wear_kg_per_m[i] * std::max(0.05, 1.0 + spec.wear_noise_rsd * normal(rng));

@@ -170,6 +170,26 @@ std::vector<FitParameter> ExtendedModel::parameters() const {
   return p;
 }
 
+std::vector<std::vector<FitParameter>> ExtendedModel::fitStarts(const std::vector<FitParameter>& params,
+                                                                bool t0_given) const {
+  const int tw = parameterOffset(Term::kThermalWear);
+  if (tw < 0 || t0_given) return {params};
+  double lo = INFINITY, hi = -INFINITY;
+  for (const DiagnosisRun& r : data_.runs) {
+    lo = std::min(lo, r.tread_temperature_c);
+    hi = std::max(hi, r.tread_temperature_c);
+  }
+  const double span = std::max(hi - lo, 5.0);
+  std::vector<std::vector<FitParameter>> starts;
+  for (double t0 : {lo - 0.5 * span, 0.5 * (lo + hi), hi + 0.5 * span}) {
+    std::vector<FitParameter> s = params;
+    s[tw].initial = std::clamp(t0, s[tw].lower, s[tw].upper);
+    s[tw + 1].initial = span;
+    starts.push_back(s);
+  }
+  return starts;
+}
+
 ExtendedModel::RawResult ExtendedModel::evaluateRun(const BrushWearModel& model, const DiagnosisRun& run,
                                                     double compliance, double load_std_scale) const {
   const TireParams& tp = model.params();

@@ -1,5 +1,6 @@
 #include "tread_wear/core/diagnosis/harness.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -50,6 +51,20 @@ std::string pctWithInterval(int num, int den) {
   std::ostringstream s;
   s << pct(num, den) << " [95% CI " << std::fixed << std::setprecision(1) << 100.0 * ci.lower << "-"
     << 100.0 * ci.upper << "%]";
+  return s.str();
+}
+
+/// The detectability columns of a CSV line: lambda, power, expected right, and the oracle's most likely wrong
+/// verdict with its share (empty without a reference).
+std::string referenceCsv(const HarnessOutcome& o) {
+  if (!o.information) return ",,,,";
+  const Detectability& d = o.reference;
+  std::ostringstream s;
+  s << std::setprecision(6) << d.lambda << "," << d.power << "," << d.expected_right << ",";
+  const auto wrong = std::find_if(d.verdicts.begin(), d.verdicts.end(),
+                                  [&](const OracleVerdict& v) { return v.verdict != d.hidden; });
+  if (wrong != d.verdicts.end()) s << wrong->verdict << "," << wrong->probability;
+  else s << ",";
   return s.str();
 }
 
@@ -149,6 +164,16 @@ std::vector<HarnessOutcome> runHarness(const TireParams& base, const HarnessOpti
         dopt.seed = cases[i].spec.seed;
         const DiagnosisResult r = diagnose(base, data, dopt);
         o = scoreCase(cases[i], cc.answer, r);
+        if (options.information && cases[i].spec.wear_noise_rsd > 0.0 && cases[i].spec.side_force_noise_n > 0.0) {
+          DetectabilityOptions d;
+          d.wear_noise_rsd = cases[i].spec.wear_noise_rsd;
+          d.side_force_noise_n = cases[i].spec.side_force_noise_n;
+          d.alpha_select = dopt.alpha_select;
+          d.model = dopt.model;
+          d.solver = dopt.solver;
+          o.reference = detectability(base, buildDiagnosisData(cc.noise_free), cases[i].spec.effect, d);
+          o.information = true;
+        }
       } catch (const std::exception& e) {
         o.c = cases[i];
         o.error = e.what();
@@ -172,67 +197,79 @@ std::vector<HarnessOutcome> runHarness(const TireParams& base, const HarnessOpti
 }
 
 std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
+  // Counts over cases; `n` counts the cases that ran (failed ones only in `errors`).
   struct Tally {
     int n = 0, right = 0, named = 0, pscored = 0, pok = 0, pok_relative = 0, pestimated = 0, pcovered = 0,
-        iscored = 0, iok = 0, all_met = 0, errors = 0;
+        iscored = 0, iok = 0, all_met = 0, errors = 0, referenced = 0;
+    double expected_right = 0.0;  ///< sum of the cases' detectability references
+
+    void add(const HarnessOutcome& o) {
+      if (!o.error.empty()) {
+        ++errors;
+        return;
+      }
+      ++n;
+      right += o.right;
+      named += o.named;
+      pscored += o.parameter_scored;
+      pok += o.parameter_ok;
+      pok_relative += o.parameter_ok_relative;
+      all_met += o.all_met;
+      pestimated += o.parameter_estimated;
+      pcovered += o.parameter_covered;
+      iscored += o.improved_scored;
+      iok += o.improved;
+      referenced += o.information;
+      if (o.information) expected_right += o.reference.expected_right;
+    }
+    /// Mean detectability reference in percent, "-" without one.
+    std::string expected() const {
+      if (referenced == 0) return "-";
+      std::ostringstream s;
+      s << std::fixed << std::setprecision(1) << 100.0 * expected_right / referenced << "%";
+      return s.str();
+    }
   };
+  const bool information =
+      std::any_of(outcomes.begin(), outcomes.end(), [](const HarnessOutcome& o) { return o.information; });
+  auto referenceColumn = [&](const Tally& t) { return information ? " " + t.expected() + " |" : std::string(); };
+  const std::string reference_header = information ? " expected right (detectability reference) |" : "";
+  const std::string reference_rule = information ? "---|" : "";
+
   std::map<std::tuple<std::string, std::string, double>, Tally> rows;
   std::map<std::pair<std::string, double>, Tally> per_effect;
+  // Totals per wear-noise level: the hidden effects (first) and the no-effect controls (second).
+  std::map<double, std::pair<Tally, Tally>> totals;
   std::vector<std::string> order;
   for (const HarnessOutcome& o : outcomes) {
-    const auto key = std::make_tuple(o.c.spec.effect, o.c.magnitude_label, o.c.spec.wear_noise_rsd);
-    for (Tally* t : {&rows[key], &per_effect[{o.c.spec.effect, o.c.spec.wear_noise_rsd}]}) {
-      ++t->n;
-      if (!o.error.empty()) {
-        ++t->errors;
-        continue;
-      }
-      t->right += o.right;
-      t->named += o.named;
-      t->pscored += o.parameter_scored;
-      t->pok += o.parameter_ok;
-      t->pok_relative += o.parameter_ok_relative;
-      t->all_met += o.all_met;
-      t->pestimated += o.parameter_estimated;
-      t->pcovered += o.parameter_covered;
-      t->iscored += o.improved_scored;
-      t->iok += o.improved;
-    }
+    rows[std::make_tuple(o.c.spec.effect, o.c.magnitude_label, o.c.spec.wear_noise_rsd)].add(o);
+    per_effect[{o.c.spec.effect, o.c.spec.wear_noise_rsd}].add(o);
+    auto& total = totals[o.c.spec.wear_noise_rsd];
+    (o.c.spec.effect == "none" ? total.second : total.first).add(o);
     if (std::find(order.begin(), order.end(), o.c.spec.effect) == order.end()) order.push_back(o.c.spec.effect);
   }
   std::ostringstream s;
-  s << "| hidden effect | magnitude | wear RSD | cases | right explanation | parameter within 25% | "
-       "held-out RMSER improved |\n|---|---|---|---|---|---|---|\n";
+  s << "| hidden effect | magnitude | wear RSD | cases | right explanation |" << reference_header
+    << " parameter within 25% | held-out RMSER improved |\n|---|---|---|---|---|" << reference_rule << "---|---|\n";
   for (const std::string& e : order)
     for (const auto& [key, t] : rows) {
       if (std::get<0>(key) != e) continue;
-      s << "| " << e << " | " << std::get<1>(key) << " | " << std::get<2>(key) * 100 << "% | " << t.n << " | "
-        << pct(t.right, t.n - t.errors) << " | " << pct(t.pok, t.pscored) << " | " << pct(t.iok, t.iscored) << " |"
-        << (t.errors ? " " + std::to_string(t.errors) + " failed" : "") << "\n";
+      s << "| " << e << " | " << std::get<1>(key) << " | " << std::get<2>(key) * 100 << "% | " << t.n + t.errors
+        << " | " << pct(t.right, t.n) << " |" << referenceColumn(t) << " " << pct(t.pok, t.pscored) << " | "
+        << pct(t.iok, t.iscored) << " |" << (t.errors ? " " + std::to_string(t.errors) + " failed" : "") << "\n";
     }
   s << "\nPer effect (all magnitudes):\n\n| hidden effect | wear RSD | cases | right explanation (`none` for "
-       "controls) | parameter within 25% | truth within 2 standard errors (when selected) | held-out RMSER "
-       "improved |\n"
-       "|---|---|---|---|---|---|---|\n";
-  // Totals per wear-noise level: the hidden effects (first) and the no-effect controls (second).
-  std::map<double, std::pair<Tally, Tally>> totals;
+       "controls) |"
+    << reference_header
+    << " parameter within 25% | truth within 2 standard errors (when selected) | held-out RMSER improved |\n"
+       "|---|---|---|---|"
+    << reference_rule << "---|---|---|\n";
   for (const std::string& e : order)
     for (const auto& [key, t] : per_effect) {
       if (key.first != e) continue;
-      s << "| " << e << " | " << key.second * 100 << "% | " << t.n << " | " << pct(t.right, t.n - t.errors) << " | "
-        << pct(t.pok, t.pscored) << " | " << pct(t.pcovered, t.pestimated) << " | " << pct(t.iok, t.iscored) << " |\n";
-      Tally& dst = e == "none" ? totals[key.second].second : totals[key.second].first;
-      dst.n += t.n - t.errors;
-      dst.right += t.right;
-      dst.named += t.named;
-      dst.pok += t.pok;
-      dst.pok_relative += t.pok_relative;
-      dst.all_met += t.all_met;
-      dst.pestimated += t.pestimated;
-      dst.pcovered += t.pcovered;
-      dst.pscored += t.pscored;
-      dst.iok += t.iok;
-      dst.iscored += t.iscored;
+      s << "| " << e << " | " << key.second * 100 << "% | " << t.n + t.errors << " | " << pct(t.right, t.n) << " |"
+        << referenceColumn(t) << " " << pct(t.pok, t.pscored) << " | " << pct(t.pcovered, t.pestimated) << " | "
+        << pct(t.iok, t.iscored) << " |\n";
     }
   for (const auto& [noise, total] : totals) {
     const auto& [effects, controls] = total;
@@ -245,6 +282,10 @@ std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
       << "; right, parameter and improved in the same case " << pctWithInterval(effects.all_met, effects.n)
       << ". The hidden term named as the explanation or as a close alternative "
       << pctWithInterval(effects.named, effects.n) << ".\n";
+    if (information)
+      s << "Detectability reference (a selector that knows the noise levels, detectability.h): expected right "
+           "explanation "
+        << effects.expected() << " of the hidden effects, `none` " << controls.expected() << " of the controls.\n";
   }
   return s.str();
 }
@@ -253,7 +294,8 @@ std::string harnessCsv(const std::vector<HarnessOutcome>& outcomes) {
   std::ostringstream s;
   s << std::setprecision(8);
   s << "effect,magnitude_label,magnitude,wear_noise_rsd,side_force_noise_n,seed,explanation,right,named,parameter_ok,"
-       "parameter_ok_relative,all_met,estimate,truth,std_error,covered,improved,cv_before_side_force,cv_before_wear,cv_after_side_force,cv_after_wear,seconds,error\n";
+       "parameter_ok_relative,all_met,estimate,truth,std_error,covered,improved,cv_before_side_force,cv_before_wear,cv_after_side_force,cv_after_wear,reference_lambda,"
+       "reference_power,reference_expected_right,reference_top_wrong,reference_top_wrong_share,seconds,error\n";
   for (const HarnessOutcome& o : outcomes)
     s << o.c.spec.effect << "," << o.c.magnitude_label << "," << o.c.spec.magnitude << "," << o.c.spec.wear_noise_rsd
       << "," << o.c.spec.side_force_noise_n << "," << o.c.spec.seed << "," << o.explanation << "," << o.right << ","
@@ -262,7 +304,7 @@ std::string harnessCsv(const std::vector<HarnessOutcome>& outcomes) {
       << (o.c.spec.effect == "none" ? "" : std::to_string(o.all_met)) << "," << o.estimate << "," << o.truth << ","
       << o.std_error << "," << (o.parameter_estimated ? std::to_string(o.parameter_covered) : "") << ","
       << (o.improved_scored ? std::to_string(o.improved) : "") << "," << o.cv_before[0] << "," << o.cv_before[1]
-      << "," << o.cv_after[0] << "," << o.cv_after[1] << "," << o.seconds << ",\"" << o.error << "\"\n";
+      << "," << o.cv_after[0] << "," << o.cv_after[1] << "," << referenceCsv(o) << "," << o.seconds << ",\"" << o.error << "\"\n";
   return s.str();
 }
 

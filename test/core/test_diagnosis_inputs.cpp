@@ -201,6 +201,35 @@ TEST(DiagnosisHarness, TableTotalsPerNoiseLevel) {
   EXPECT_NE(table.find("controls `none` 50.0% (1/2) [95% CI 9.5-90.5%]."), std::string::npos) << table;
 }
 
+TEST(DiagnosisHarness, TableShowsTheDetectabilityReference) {
+  // Two gain cases whose references are 0.9 and 0.6 and a control with 0.99: the column holds their means.
+  auto outcome = [](const std::string& effect, bool right, double reference) {
+    HarnessOutcome o;
+    o.c.spec.effect = effect;
+    o.c.spec.wear_noise_rsd = 0.05;
+    o.c.magnitude_label = effect == "none" ? "-" : "small";
+    o.right = right;
+    o.information = true;
+    o.reference.hidden = effect;
+    o.reference.expected_right = reference;
+    return o;
+  };
+  const std::string table = harnessTable(
+      {outcome("sensor_gain", true, 0.9), outcome("sensor_gain", false, 0.6), outcome("none", true, 0.99)});
+  EXPECT_NE(table.find("| right explanation | expected right (detectability reference) | parameter within 25% |"),
+            std::string::npos)
+      << table;
+  EXPECT_NE(table.find("| sensor_gain | small | 5% | 2 | 50.0% (1/2) | 75.0% | - | - |"), std::string::npos) << table;
+  EXPECT_NE(table.find("| none | 5% | 1 | 100% (1/1) | 99.0% | - | - | - |"), std::string::npos) << table;
+  EXPECT_NE(table.find("expected right explanation 75.0% of the hidden effects, `none` 99.0% of the controls."),
+            std::string::npos)
+      << table;
+  // Without references the table has no such column.
+  HarnessOutcome plain = outcome("sensor_gain", true, 0.9);
+  plain.information = false;
+  EXPECT_EQ(harnessTable({plain}).find("detectability"), std::string::npos);
+}
+
 // The documented example (examples/diagnosis/README.md) end to end through the command line: exit 0, the verdict
 // on stdout, and in the report directory report.md, the PNG plots and diagnosis.json with the fields the issue
 // names. The truth is the generator's answer file, which the diagnosis never reads.

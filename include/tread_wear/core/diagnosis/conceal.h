@@ -51,7 +51,8 @@ struct ConcealAnswer {
 };
 
 struct ConcealCase {
-  RunTable table;
+  RunTable table;       ///< the recordings: truth plus noise
+  RunTable noise_free;  ///< the same runs with the truth itself as measurements (detectability.h)
   ConcealAnswer answer;
 };
 

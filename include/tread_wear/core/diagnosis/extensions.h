@@ -105,6 +105,9 @@ class ExtendedModel {
 
   /// Free parameters with start values and bounds (term starts adapted to the data, e.g. T0).
   std::vector<FitParameter> parameters() const;
+  /// The start points of a fit from `params`: `params` itself, or, with thermal_wear on and T0 not given by the
+  /// caller, three starts with T0 below, inside and above the observed tread temperatures (Eq 25 is a bowl in T).
+  std::vector<std::vector<FitParameter>> fitStarts(const std::vector<FitParameter>& params, bool t0_given) const;
   const std::vector<Term>& terms() const { return terms_; }
   /// Index of the first parameter of a term in the layout, -1 if the term is not active.
   int parameterOffset(Term term) const;

@@ -15,6 +15,9 @@
 ///              uncertainties the tool reports honest? about 95% if they are); scored when the term was selected
 ///   improved   the held-out RMSER of every output the term affects is lower after than before
 ///   none       (controls) the verdict is "none"
+/// With HarnessOptions::information, each case also gets its detectability reference (detectability.h), computed
+/// on the case's own noise-free recordings: the probability that a selector knowing the noise levels names the
+/// hidden term. Its mean over the cases is the rate that the recordings allow, beside the rate measured.
 
 #include <cstdint>
 #include <ostream>
@@ -22,6 +25,7 @@
 #include <vector>
 
 #include "tread_wear/core/diagnosis/conceal.h"
+#include "tread_wear/core/diagnosis/detectability.h"
 #include "tread_wear/core/diagnosis/diagnosis.h"
 
 namespace tread_wear {
@@ -44,6 +48,8 @@ struct HarnessOutcome {
   double estimate = std::numeric_limits<double>::quiet_NaN(), truth = std::numeric_limits<double>::quiet_NaN();
   double std_error = std::numeric_limits<double>::quiet_NaN();  ///< reported standard error of the estimate
   double cv_before[kNumOutputs] = {0.0, 0.0}, cv_after[kNumOutputs] = {0.0, 0.0};
+  bool information = false;  ///< the reference below was computed
+  Detectability reference;   ///< detectability of the hidden term on this case's noise-free recordings
   double seconds = 0.0;
   std::string error;  ///< non-empty when the case failed to run
 };
@@ -57,6 +63,7 @@ struct HarnessOptions {
   std::vector<std::string> effects;             ///< empty = every library term
   bool two_magnitudes = true;                   ///< small and large magnitude (else the default only)
   int jobs = 1;                                 ///< worker threads
+  bool information = false;                     ///< also each case's detectability reference (about +50% time)
   std::uint64_t seed = 1000;
   DiagnosisOptions diagnosis;
 };

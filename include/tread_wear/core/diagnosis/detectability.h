@@ -1,0 +1,78 @@
+#pragma once
+/// @file detectability.h
+/// What recordings of a design can show at all: the information reference beside the diagnosis's success rates
+/// (harness.h). Given the noise-free recordings of a hidden term A (conceal.h keeps them beside the noisy ones) and
+/// the noise levels (side force sigma_F [N], additive; wear relative RSD s_W), residuals are measured in units of
+/// the noise: (Fy - Fy_true) / sigma_F and (W / W_true - 1) / s_W.
+///  - Noncentrality: lambda_A = the smallest residual sum of squares of the base model (w3_scale, mu_scale free) on
+///    A's noise-free recordings: the part of the effect that the base model cannot absorb. For a small effect the
+///    drop in residual sum of squares that A brings on noisy recordings is lambda_A plus chi-square noise (Seber
+///    and Wild 2003, Sec 5.3, linearised).
+///  - Power: the probability that the diagnosis's first-step F test of A against the base model (diagnosis.h, step
+///    4: level alpha_select / m over the m terms tried; twice that level for a term whose no-effect value is a
+///    bound, the boundary test) passes: P(F'(k_A, n - p_A; lambda_A) > F_crit), F' the noncentral F distribution
+///    (Boost.Math), n the measured values, p_A the model's parameters, k_A those of the term.
+///  - Oracle verdicts: the diagnosis's first selection step, with the runs weighted by the true noise levels, on
+///    `draws` noise draws, each model linearised around its best fit to the noise-free recordings (Gauss-Newton:
+///    on recordings truth + e its residual sum of squares is |(I - P_M)(r_M - e)|^2, r_M its noise-free residual,
+///    P_M the projection on its Jacobian's columns; a one-parameter term on its no-effect bound may only move
+///    inwards). Every applicable term is tested against the base model (F test and AICc drop, as the diagnosis);
+///    of the eligible, the lowest AICc is the verdict (the diagnosis cross-validates the best three instead), else
+///    "none". expected_right = the share of draws whose verdict is A ("none" for no hidden term). The diagnosis
+///    estimates the noise levels and weights the error ratios of one output alike, so it can fall short of this
+///    reference; being a probability per case, the reference has no draw-to-draw scatter, which the measured 0/1
+///    outcomes have.
+/// Limits: linearised (small effects); the first selection step only (no pairs).
+
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "tread_wear/core/diagnosis/data.h"
+#include "tread_wear/core/diagnosis/extensions.h"
+#include "tread_wear/core/least_squares.h"
+
+namespace tread_wear {
+namespace diagnosis {
+
+struct DetectabilityOptions {
+  double wear_noise_rsd = 0.05;    ///< relative wear noise s_W [-], > 0
+  double side_force_noise_n = 1.0; ///< additive side-force noise sigma_F [N], > 0
+  double alpha_select = 0.01;      ///< the diagnosis's family-wise level of the term tests (0, 1)
+  double min_aicc_drop = 2.0;      ///< the diagnosis's AICc drop for an eligible term, >= 0
+  int draws = 10000;               ///< noise draws of the oracle verdicts, >= 100
+  std::uint64_t seed = 1;          ///< of the noise draws
+  std::vector<Term> candidates;    ///< terms to try; empty = every applicable term (as the diagnosis)
+  ExtendedModelOptions model;      ///< preset and orientation, as in the diagnosis
+  LeastSquaresOptions solver;
+
+  bool validate(std::string* error) const;
+};
+
+/// One verdict of the oracle and how often it is reached.
+struct OracleVerdict {
+  std::string verdict;        ///< library name or "none"
+  double probability = 0.0;   ///< share of the noise draws [-]
+};
+
+struct Detectability {
+  std::string hidden;         ///< library name, or "none"
+  int terms_tried = 0;        ///< m: the candidate terms the data can show
+  double lambda = 0.0;        ///< lambda_A [-]; 0 for none
+  double power = std::numeric_limits<double>::quiet_NaN();  ///< of the first-step F test of the hidden term [-]; NaN for none
+  std::vector<OracleVerdict> verdicts;  ///< most likely first
+  double expected_right = 0.0;          ///< share of the verdicts that name the hidden term (or none) [-]
+};
+
+/// The reference for recordings `truth` whose measured values are the noise-free outputs with `hidden` ("none"
+/// or a library name) switched on. @throw std::invalid_argument for invalid options or an unknown term.
+Detectability detectability(const TireParams& base, const DiagnosisData& truth, const std::string& hidden,
+                            const DetectabilityOptions& options);
+
+/// Power of an F test with (df1, df2) degrees of freedom at `level` against noncentrality lambda:
+/// P(F'(df1, df2; lambda) > F_crit(level)). 1 for lambda > 1e4 (the computation is then needlessly slow).
+double fTestPower(double lambda, double df1, double df2, double level);
+
+}  // namespace diagnosis
+}  // namespace tread_wear

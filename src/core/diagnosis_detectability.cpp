@@ -1,0 +1,275 @@
+#include "tread_wear/core/diagnosis/detectability.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <random>
+#include <stdexcept>
+
+#include <Eigen/Dense>
+#include <boost/math/distributions/fisher_f.hpp>
+#include <boost/math/distributions/non_central_f.hpp>
+
+#include "tread_wear/core/diagnosis/statistics.h"
+
+namespace tread_wear {
+namespace diagnosis {
+namespace {
+
+/// Noncentrality above which the power is 1 to double precision for any level used here.
+constexpr double kCertainLambda = 1e4;
+/// Finite-difference step of the Jacobians, relative to the parameter's scale [-].
+constexpr double kJacobianStep = 1e-5;
+
+/// Parameters of base + terms: the two levels, the terms' parameters, and the orientation switch counted as one
+/// (as the diagnosis's AICc does).
+int parameterCount(const std::vector<Term>& terms) {
+  int p = 2;
+  for (Term t : terms) p += static_cast<int>(termInfo(t).parameters.size()) + (t == Term::kTurnSlipOrientation);
+  return p;
+}
+
+/// A model fitted to the noise-free recordings and linearised there (Gauss-Newton), in noise units over the
+/// measured values.
+struct LinearisedModel {
+  std::vector<Term> terms;
+  int k = 0;                  ///< parameters, as the diagnosis counts them
+  bool usable = false;
+  Eigen::VectorXd residual;   ///< r_M: noise-free residual at the best fit
+  Eigen::MatrixXd basis;      ///< orthonormal basis of the free Jacobian columns
+  Eigen::MatrixXd pseudo_inverse;  ///< of the free Jacobian columns: the parameter step that fits a residual change
+  int one_sided = -1;         ///< column of a parameter on its lower bound that may only grow, -1 if none
+  Eigen::MatrixXd basis_without;  ///< basis without that column
+
+  /// Residual sum of squares on truth + noise (noise in noise units over the measured values).
+  double rss(const Eigen::VectorXd& noise) const {
+    const Eigen::VectorXd e = residual - noise;
+    if (one_sided >= 0) {
+      // The parameter step that fits -e is -(R^-1 Q^T e); a negative step would cross the bound.
+      if (-pseudo_inverse.row(one_sided).dot(e) < 0.0)
+        return e.squaredNorm() - (basis_without.transpose() * e).squaredNorm();
+    }
+    return e.squaredNorm() - (basis.transpose() * e).squaredNorm();
+  }
+};
+
+class Linearisation {
+ public:
+  Linearisation(const TireParams& base, const DiagnosisData& truth, const DetectabilityOptions& options)
+      : base_(base), truth_(truth), options_(options) {
+    for (std::size_t i = 0; i < truth.runs.size(); ++i)
+      for (int o = 0; o < kNumOutputs; ++o)
+        if (std::isfinite(truth.runs[i].measured[o])) rows_.push_back({static_cast<int>(i), o});
+  }
+
+  int measured() const { return static_cast<int>(rows_.size()); }
+
+  LinearisedModel fit(const std::vector<Term>& terms) const {
+    LinearisedModel m;
+    m.terms = terms;
+    m.k = parameterCount(terms);
+    const ExtendedModel model(base_, options_.model, terms, truth_);
+    LeastSquaresProblem problem;
+    problem.num_records = static_cast<int>(truth_.runs.size());
+    problem.residuals_per_record = kNumOutputs;
+    problem.residuals = [&](const std::vector<double>& values, const std::vector<int>& records, double* out) {
+      Prediction pred;
+      if (!model.predict(values, &pred)) return false;
+      for (std::size_t k = 0; k < records.size(); ++k)
+        for (int o = 0; o < kNumOutputs; ++o) out[k * kNumOutputs + o] = residual(pred, records[k], o);
+      return true;
+    };
+    LeastSquaresSummary best;
+    for (const std::vector<FitParameter>& start : model.fitStarts(model.parameters(), false)) {
+      problem.parameters = start;
+      LeastSquaresSummary s = solveLeastSquares(problem, options_.solver);
+      if (s.usable && (!best.usable || s.final_cost < best.final_cost)) best = std::move(s);
+    }
+    if (!best.usable) return m;
+    const std::vector<double> values = best.values();
+    Eigen::VectorXd r0;
+    if (!residualVector(model, values, &r0)) return m;
+    // Jacobian columns of the parameters off their bounds; forward differences inwards from a bound.
+    const std::vector<FitParameter> params = model.parameters();
+    std::vector<Eigen::VectorXd> columns;
+    std::vector<bool> lower_bound;
+    for (std::size_t j = 0; j < values.size(); ++j) {
+      const ParameterEstimate& est = best.parameters[j];
+      const double scale = std::max({std::abs(values[j]), std::abs(params[j].initial), 1e-12});
+      const double h = kJacobianStep * scale;
+      std::vector<double> up = values, down = values;
+      Eigen::VectorXd r_up, r_down;
+      if (est.at_upper) continue;  // an effect driven to its upper bound: held there (rare; conservative)
+      up[j] += h;
+      if (!residualVector(model, up, &r_up)) return m;
+      if (est.at_lower) {
+        columns.push_back((r_up - r0) / h);
+      } else {
+        down[j] -= h;
+        if (!residualVector(model, down, &r_down)) return m;
+        columns.push_back((r_up - r_down) / (2.0 * h));
+      }
+      lower_bound.push_back(est.at_lower);
+    }
+    Eigen::MatrixXd jacobian(measured(), static_cast<int>(columns.size()));
+    for (std::size_t j = 0; j < columns.size(); ++j) jacobian.col(j) = columns[j];
+    m.residual = r0;
+    m.basis = thinQ(jacobian);
+    m.pseudo_inverse = jacobian.completeOrthogonalDecomposition().pseudoInverse();
+    const int bounded = static_cast<int>(std::count(lower_bound.begin(), lower_bound.end(), true));
+    if (bounded == 1) {
+      m.one_sided = static_cast<int>(std::find(lower_bound.begin(), lower_bound.end(), true) - lower_bound.begin());
+      Eigen::MatrixXd without(jacobian.rows(), jacobian.cols() - 1);
+      for (int j = 0, c = 0; j < jacobian.cols(); ++j)
+        if (j != m.one_sided) without.col(c++) = jacobian.col(j);
+      m.basis_without = thinQ(without);
+    } else if (bounded > 1) {  // several on their bounds: hold them all there
+      Eigen::MatrixXd without(jacobian.rows(), jacobian.cols() - bounded);
+      for (int j = 0, c = 0; j < jacobian.cols(); ++j)
+        if (!lower_bound[j]) without.col(c++) = jacobian.col(j);
+      m.basis = thinQ(without);
+    }
+    m.usable = true;
+    return m;
+  }
+
+ private:
+  struct Row {
+    int run, output;
+  };
+
+  double residual(const Prediction& pred, int run, int output) const {
+    const double meas = truth_.runs[run].measured[output];
+    if (!std::isfinite(meas)) return 0.0;
+    return output == static_cast<int>(Output::kSideForce)
+               ? (pred.side_force_n[run] - meas) / options_.side_force_noise_n
+               : (pred.wear_kg_per_m[run] / meas - 1.0) / options_.wear_noise_rsd;
+  }
+
+  bool residualVector(const ExtendedModel& model, const std::vector<double>& values, Eigen::VectorXd* out) const {
+    Prediction pred;
+    if (!model.predict(values, &pred)) return false;
+    out->resize(measured());
+    for (int i = 0; i < measured(); ++i) (*out)(i) = residual(pred, rows_[i].run, rows_[i].output);
+    return true;
+  }
+
+  static Eigen::MatrixXd thinQ(const Eigen::MatrixXd& a) {
+    if (a.cols() == 0) return Eigen::MatrixXd(a.rows(), 0);
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(a);
+    return qr.householderQ() * Eigen::MatrixXd::Identity(a.rows(), a.cols());
+  }
+
+  const TireParams& base_;
+  const DiagnosisData& truth_;
+  const DetectabilityOptions& options_;
+  std::vector<Row> rows_;
+};
+
+double fCritical(double df1, double df2, double level) {
+  return boost::math::quantile(boost::math::complement(boost::math::fisher_f(df1, df2), level));
+}
+
+}  // namespace
+
+bool DetectabilityOptions::validate(std::string* error) const {
+  auto fail = [&](const std::string& m) {
+    if (error) *error = "detectability options: " + m;
+    return false;
+  };
+  if (!(wear_noise_rsd > 0.0) || !std::isfinite(wear_noise_rsd))
+    return fail("wear_noise_rsd = " + std::to_string(wear_noise_rsd) + " must be > 0");
+  if (!(side_force_noise_n > 0.0) || !std::isfinite(side_force_noise_n))
+    return fail("side_force_noise_n = " + std::to_string(side_force_noise_n) + " must be > 0");
+  if (!(alpha_select > 0.0 && alpha_select < 1.0))
+    return fail("alpha_select = " + std::to_string(alpha_select) + " must be in (0, 1)");
+  if (!(min_aicc_drop >= 0.0)) return fail("min_aicc_drop = " + std::to_string(min_aicc_drop) + " must be >= 0");
+  if (draws < 100) return fail("draws = " + std::to_string(draws) + " must be >= 100");
+  return solver.validate(error);
+}
+
+double fTestPower(double lambda, double df1, double df2, double level) {
+  if (!(lambda >= 0.0) || !(df1 > 0.0) || !(df2 > 0.0) || !(level > 0.0 && level < 1.0))
+    throw std::invalid_argument("fTestPower: needs lambda >= 0, df1, df2 > 0 and level in (0, 1)");
+  if (lambda > kCertainLambda) return 1.0;
+  if (lambda == 0.0) return level;
+  return boost::math::cdf(
+      boost::math::complement(boost::math::non_central_f(df1, df2, lambda), fCritical(df1, df2, level)));
+}
+
+Detectability detectability(const TireParams& base, const DiagnosisData& truth, const std::string& hidden,
+                            const DetectabilityOptions& options) {
+  std::string error;
+  if (!options.validate(&error)) throw std::invalid_argument(error);
+  Term hidden_term = Term::kCount;
+  if (hidden != "none" && !parseTerm(hidden, &hidden_term))
+    throw std::invalid_argument("detectability: '" + hidden + "' is not a library term or none");
+
+  Detectability d;
+  d.hidden = hidden;
+  std::vector<Term> applicable;
+  for (const TermInfo& info : termLibrary()) {
+    const bool wanted = options.candidates.empty() || std::find(options.candidates.begin(), options.candidates.end(),
+                                                                info.term) != options.candidates.end();
+    if (wanted && termApplicable(info.term, truth, nullptr)) applicable.push_back(info.term);
+  }
+  d.terms_tried = static_cast<int>(applicable.size());
+  const double level = options.alpha_select / std::max(1, d.terms_tried);
+
+  const Linearisation linearisation(base, truth, options);
+  const int n = linearisation.measured();
+  const LinearisedModel base_model = linearisation.fit({});
+  if (!base_model.usable) throw std::invalid_argument("detectability: the base model cannot be fitted to the truth");
+  std::vector<LinearisedModel> candidates;
+  for (Term t : applicable) {
+    LinearisedModel m = linearisation.fit({t});
+    if (m.usable) candidates.push_back(std::move(m));
+  }
+  d.lambda = base_model.residual.squaredNorm();
+  if (hidden_term != Term::kCount) {
+    const int k_term = parameterCount({hidden_term}) - base_model.k;
+    const bool one_sided = neutralOnBound(termInfo(hidden_term));
+    d.power = fTestPower(d.lambda, k_term, n - parameterCount({hidden_term}), one_sided ? 2.0 * level : level);
+  }
+
+  // The first selection step on noise draws. The F test's threshold as a critical value of the statistic:
+  // p < level, or for a one-sided term p / 2 < level while its estimate is off the bound.
+  std::vector<double> critical;
+  for (const LinearisedModel& m : candidates) {
+    const bool one_sided = neutralOnBound(termInfo(m.terms.front()));
+    critical.push_back(fCritical(m.k - base_model.k, n - m.k, one_sided ? 2.0 * level : level));
+  }
+  std::mt19937_64 rng(options.seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Eigen::VectorXd noise(n);
+  std::map<std::string, int> counts;
+  for (int draw = 0; draw < options.draws; ++draw) {
+    for (int i = 0; i < n; ++i) noise(i) = normal(rng);
+    const double rss_base = base_model.rss(noise);
+    const double aicc_base = aicc(rss_base, n, base_model.k);
+    std::string verdict = "none";
+    double best_aicc = 0.0;
+    for (std::size_t c = 0; c < candidates.size(); ++c) {
+      const LinearisedModel& m = candidates[c];
+      const double rss = m.rss(noise);
+      const double f = ((rss_base - rss) / (m.k - base_model.k)) / (rss / (n - m.k));
+      const double a = aicc(rss, n, m.k);
+      if (!(f > critical[c]) || aicc_base - a < options.min_aicc_drop) continue;
+      if (verdict == "none" || a < best_aicc) {
+        verdict = termInfo(m.terms.front()).name;
+        best_aicc = a;
+      }
+    }
+    ++counts[verdict];
+  }
+  for (const auto& [verdict, count] : counts)
+    d.verdicts.push_back({verdict, static_cast<double>(count) / options.draws});
+  std::sort(d.verdicts.begin(), d.verdicts.end(),
+            [](const OracleVerdict& a, const OracleVerdict& b) { return a.probability > b.probability; });
+  const auto right = counts.find(hidden);
+  d.expected_right = right == counts.end() ? 0.0 : static_cast<double>(right->second) / options.draws;
+  return d;
+}
+
+}  // namespace diagnosis
+}  // namespace tread_wear

@@ -1,0 +1,167 @@
+// The detectability reference (detectability.h) against independent references: the noncentral F power against
+// the normal limit, Cohen's tables and a quadrature over the denominator's chi-square; the oracle's size on a
+// no-effect case; the exact scaling of the noncentrality with the noise; and the oracle's Monte Carlo detection
+// rate against the analytic power.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "tread_wear/core/diagnosis/conceal.h"
+#include "tread_wear/core/diagnosis/detectability.h"
+#include "tread_wear/core/diagnosis/statistics.h"
+
+using namespace tread_wear;
+using namespace tread_wear::diagnosis;
+
+namespace {
+
+double normalCdf(double x) { return 0.5 * std::erfc(-x / std::sqrt(2.0)); }
+
+/// P(noncentral chi-square(1; lambda) > t): the square of N(sqrt(lambda), 1) beyond t.
+double noncentralChiSquare1Tail(double lambda, double t) {
+  return normalCdf(std::sqrt(lambda) - std::sqrt(t)) + normalCdf(-std::sqrt(lambda) - std::sqrt(t));
+}
+
+/// P(noncentral chi-square(2; lambda) > t) as a Poisson mixture of central chi-squares with 2 + 2j degrees of
+/// freedom, whose tails are finite sums for even degrees of freedom.
+double noncentralChiSquare2Tail(double lambda, double t) {
+  double p = 0.0;
+  for (int j = 0; j < 200; ++j) {
+    const double weight = std::exp(-0.5 * lambda + j * std::log(0.5 * lambda) - std::lgamma(j + 1.0));
+    double tail = 0.0;
+    for (int i = 0; i <= j; ++i) tail += std::exp(-0.5 * t + i * std::log(0.5 * t) - std::lgamma(i + 1.0));
+    p += weight * tail;
+  }
+  return p;
+}
+
+/// The critical value of F(df1, df2) at `level`, by bisection on the project's own F tail (statistics.h).
+double fCriticalByBisection(double df1, double df2, double level) {
+  double lo = 0.0, hi = 1e3;
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (fDistributionUpperTail(mid, df1, df2) > level ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+ConcealSpec smallDesignCase(const std::string& effect, double magnitude) {
+  ConcealSpec spec;
+  spec.effect = effect;
+  spec.magnitude = magnitude;
+  spec.design = "small";
+  spec.seed = 21;
+  return spec;
+}
+
+Detectability detectabilityOf(const ConcealSpec& spec, const DetectabilityOptions& options) {
+  const TireParams base;
+  const ConcealCase c = concealEffect(base, spec);
+  return detectability(base, buildDiagnosisData(c.noise_free), spec.effect, options);
+}
+
+}  // namespace
+
+TEST(DiagnosisDetectability, FTestPowerMatchesTheChiSquareLimitAndCohensTables) {
+  // Denominator degrees of freedom -> infinity: df1 F -> chi-square(df1). 80% power at lambda = (z_(1-a/2) +
+  // z_0.8)^2: 7.849 at 5%, 11.679 at 1%; for two degrees of freedom at 5%, 9.635 (Cohen 1988, Table 7.4.15 gives
+  // 9.64).
+  EXPECT_NEAR(fTestPower(7.849, 1, 1e8, 0.05), 0.80, 1e-3);
+  EXPECT_NEAR(fTestPower(11.679, 1, 1e8, 0.01), 0.80, 1e-3);
+  EXPECT_NEAR(fTestPower(9.635, 2, 1e8, 0.05), 0.80, 1e-3);
+  for (double lambda : {0.5, 4.0, 15.0, 40.0}) {
+    EXPECT_NEAR(fTestPower(lambda, 1, 1e8, 0.001), noncentralChiSquare1Tail(lambda, 10.827566170662733), 1e-4)
+        << lambda;
+    EXPECT_NEAR(fTestPower(lambda, 2, 1e8, 0.05), noncentralChiSquare2Tail(lambda, -2.0 * std::log(0.05)), 1e-4)
+        << lambda;
+  }
+  EXPECT_DOUBLE_EQ(fTestPower(0.0, 1, 30, 0.01), 0.01);
+  EXPECT_EQ(fTestPower(2e4, 1, 30, 0.01), 1.0);
+  EXPECT_THROW(fTestPower(-1.0, 1, 30, 0.05), std::invalid_argument);
+  EXPECT_THROW(fTestPower(1.0, 1, 30, 1.5), std::invalid_argument);
+}
+
+TEST(DiagnosisDetectability, FTestPowerWithFewDegreesOfFreedomMatchesAQuadrature) {
+  // F'(1, 30; lambda) = chi'^2_1(lambda) / (chi^2_30 / 30): the power is the chi'^2_1 tail at F_crit x / 30,
+  // averaged over the chi-square(30) density of x (trapezoid rule), with F_crit from the project's F tail.
+  const double df2 = 30.0, level = 0.01 / 9.0;
+  const double critical = fCriticalByBisection(1.0, df2, level);
+  for (double lambda : {5.0, 15.0, 30.0}) {
+    const int steps = 40000;
+    const double x_max = 200.0, h = x_max / steps;
+    double power = 0.0;
+    for (int i = 1; i < steps; ++i) {
+      const double x = i * h;
+      const double density =
+          std::exp((0.5 * df2 - 1.0) * std::log(x) - 0.5 * x - 0.5 * df2 * std::log(2.0) - std::lgamma(0.5 * df2));
+      power += h * density * noncentralChiSquare1Tail(lambda, critical * x / df2);
+    }
+    EXPECT_NEAR(fTestPower(lambda, 1.0, df2, level), power, 1e-4) << lambda;
+  }
+}
+
+TEST(DiagnosisDetectability, WithoutAnEffectTheOracleKeepsTheSizeOfItsTests) {
+  // No hidden term: the noise-free recordings are the base model, the noncentrality is 0, and the verdict is
+  // "none" unless one of the m tests at level alpha / m passes by chance: (1 - alpha / m)^m.
+  DetectabilityOptions o;
+  o.draws = 20000;
+  const Detectability d = detectabilityOf(smallDesignCase("none", std::nan("")), o);
+  EXPECT_LT(d.lambda, 1e-8);
+  ASSERT_GT(d.terms_tried, 5);
+  const double size = std::pow(1.0 - o.alpha_select / d.terms_tried, d.terms_tried);
+  EXPECT_NEAR(d.expected_right, size, 4.0 * std::sqrt(size * (1.0 - size) / o.draws));
+  EXPECT_EQ(d.verdicts.front().verdict, "none");
+}
+
+TEST(DiagnosisDetectability, NoncentralityScalesAsTheInverseSquareOfTheNoise) {
+  // Halving both noise levels scales every weighted residual by 2 and leaves the best fit where it was.
+  DetectabilityOptions o;
+  o.draws = 100;
+  const ConcealSpec spec = smallDesignCase("sensor_offset", 2.0);
+  const Detectability rig = detectabilityOf(spec, o);
+  o.wear_noise_rsd /= 2.0;
+  o.side_force_noise_n /= 2.0;
+  const Detectability quiet = detectabilityOf(spec, o);
+  ASSERT_GT(rig.lambda, 1.0);
+  EXPECT_NEAR(quiet.lambda / rig.lambda, 4.0, 4e-4);
+  EXPECT_GT(quiet.power, rig.power);
+}
+
+TEST(DiagnosisDetectability, OracleDetectionRateMatchesTheNoncentralF) {
+  // Only the hidden term tried: the oracle's Monte Carlo share of draws that accept it (linearised fits on noise
+  // draws) and the analytic noncentral F power are two computations of one probability. Offset and compliance
+  // sizes were picked for a power between 20% and 80% on the 18-run design at rig noise; compliance checks the
+  // boundary version of the test (twice the level).
+  for (const auto& [effect, magnitude] : {std::pair<std::string, double>{"sensor_offset", 1.6},
+                                          std::pair<std::string, double>{"lateral_compliance", 1.2e-4}}) {
+    DetectabilityOptions o;
+    o.draws = 20000;
+    Term t;
+    ASSERT_TRUE(parseTerm(effect, &t));
+    o.candidates = {t};
+    const Detectability d = detectabilityOf(smallDesignCase(effect, magnitude), o);
+    ASSERT_EQ(d.terms_tried, 1);
+    EXPECT_GT(d.power, 0.2) << effect;
+    EXPECT_LT(d.power, 0.8) << effect;
+    // Monte Carlo error (4 standard errors) plus 0.01 for the linearisation.
+    EXPECT_NEAR(d.expected_right, d.power, 4.0 * std::sqrt(0.25 / o.draws) + 0.01) << effect;
+  }
+}
+
+TEST(DiagnosisDetectability, InvalidOptionsAndTermsNameTheProblem) {
+  const TireParams base;
+  const ConcealCase c = concealEffect(base, smallDesignCase("none", std::nan("")));
+  const DiagnosisData data = buildDiagnosisData(c.noise_free);
+  DetectabilityOptions o;
+  o.wear_noise_rsd = 0.0;
+  try {
+    detectability(base, data, "none", o);
+    FAIL() << "zero wear noise accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("wear_noise_rsd = 0"), std::string::npos) << e.what();
+  }
+  o = DetectabilityOptions{};
+  o.draws = 10;
+  EXPECT_THROW(detectability(base, data, "none", o), std::invalid_argument);
+  EXPECT_THROW(detectability(base, data, "tyre_pressure", DetectabilityOptions{}), std::invalid_argument);
+}
