@@ -39,6 +39,7 @@ struct LinearisedModel {
   Eigen::MatrixXd basis;      ///< orthonormal basis of the free Jacobian columns
   Eigen::MatrixXd pseudo_inverse;  ///< of the free Jacobian columns: the parameter step that fits a residual change
   int one_sided = -1;         ///< column of a parameter on its lower bound that may only grow, -1 if none
+  std::vector<ReferenceParameter> parameters;  ///< best-fit values; standard errors from the free columns
   Eigen::MatrixXd basis_without;  ///< basis without that column
 
   /// Residual sum of squares on truth + noise (noise in noise units over the measured values).
@@ -93,6 +94,7 @@ class Linearisation {
     const std::vector<FitParameter> params = model.parameters();
     std::vector<Eigen::VectorXd> columns;
     std::vector<bool> lower_bound;
+    std::vector<int> column_parameter;
     for (std::size_t j = 0; j < values.size(); ++j) {
       const ParameterEstimate& est = best.parameters[j];
       const double scale = std::max({std::abs(values[j]), std::abs(params[j].initial), 1e-12});
@@ -110,12 +112,18 @@ class Linearisation {
         columns.push_back((r_up - r_down) / (2.0 * h));
       }
       lower_bound.push_back(est.at_lower);
+      column_parameter.push_back(static_cast<int>(j));
     }
     Eigen::MatrixXd jacobian(measured(), static_cast<int>(columns.size()));
     for (std::size_t j = 0; j < columns.size(); ++j) jacobian.col(j) = columns[j];
     m.residual = r0;
     m.basis = thinQ(jacobian);
     m.pseudo_inverse = jacobian.completeOrthogonalDecomposition().pseudoInverse();
+    // Unit noise: the covariance of the parameter step is pinv pinv^T.
+    for (std::size_t j = 0; j < values.size(); ++j)
+      m.parameters.push_back({params[j].name, values[j], std::numeric_limits<double>::quiet_NaN()});
+    for (std::size_t c = 0; c < column_parameter.size(); ++c)
+      if (!lower_bound[c]) m.parameters[column_parameter[c]].std_error = m.pseudo_inverse.row(c).norm();
     const int bounded = static_cast<int>(std::count(lower_bound.begin(), lower_bound.end(), true));
     if (bounded == 1) {
       m.one_sided = static_cast<int>(std::find(lower_bound.begin(), lower_bound.end(), true) - lower_bound.begin());
@@ -227,6 +235,8 @@ Detectability detectability(const TireParams& base, const DiagnosisData& truth, 
   }
   d.lambda = base_model.residual.squaredNorm();
   if (hidden_term != Term::kCount) {
+    for (const LinearisedModel& m : candidates)
+      if (m.terms.front() == hidden_term) d.parameters = m.parameters;
     const int k_term = parameterCount({hidden_term}) - base_model.k;
     const bool one_sided = neutralOnBound(termInfo(hidden_term));
     d.power = fTestPower(d.lambda, k_term, n - parameterCount({hidden_term}), one_sided ? 2.0 * level : level);

@@ -54,13 +54,31 @@ std::string pctWithInterval(int num, int den) {
   return s.str();
 }
 
-/// The detectability columns of a CSV line: lambda, power, expected right, and the oracle's most likely wrong
+/// The size of the hidden effect against which a parameter estimate is scored: |truth - neutral|, or |truth|
+/// without a neutral value (thermal_wear's sigma_T).
+double effectSize(const ConcealAnswer& answer) {
+  return std::isfinite(answer.primary_neutral) ? std::abs(answer.primary_value - answer.primary_neutral)
+                                               : std::abs(answer.primary_value);
+}
+
+/// Probability under the detectability reference that the case is right and its parameter within the tolerance.
+double referenceParameterOk(const ConcealAnswer& answer, const Detectability& reference) {
+  for (const ReferenceParameter& p : reference.parameters)
+    if (p.name == answer.primary && p.std_error > 0.0) {
+      const double within = std::erf(kParameterTolerance * effectSize(answer) / (p.std_error * std::sqrt(2.0)));
+      return reference.expected_right * within;
+    }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+/// The detectability columns of a CSV line: lambda, power, expected right, parameter, and the oracle's most likely wrong
 /// verdict with its share (empty without a reference).
 std::string referenceCsv(const HarnessOutcome& o) {
-  if (!o.information) return ",,,,";
+  if (!o.information) return ",,,,,";
   const Detectability& d = o.reference;
   std::ostringstream s;
-  s << std::setprecision(6) << d.lambda << "," << d.power << "," << d.expected_right << ",";
+  s << std::setprecision(6) << d.lambda << "," << d.power << "," << d.expected_right << ","
+    << o.reference_parameter_ok << ",";
   const auto wrong = std::find_if(d.verdicts.begin(), d.verdicts.end(),
                                   [&](const OracleVerdict& v) { return v.verdict != d.hidden; });
   if (wrong != d.verdicts.end()) s << wrong->verdict << "," << wrong->probability;
@@ -138,8 +156,7 @@ HarnessOutcome scoreCase(const HarnessCase& c, const ConcealAnswer& answer, cons
       o.parameter_estimated = true;
       o.estimate = fittedValue(result.final_model, answer.primary, &o.std_error);
       o.parameter_covered = std::isfinite(o.std_error) && std::abs(o.estimate - o.truth) <= 2.0 * o.std_error;
-      const double scale =
-          std::isfinite(answer.primary_neutral) ? std::abs(o.truth - answer.primary_neutral) : std::abs(o.truth);
+      const double scale = effectSize(answer);
       o.parameter_ok = std::abs(o.estimate - o.truth) <= kParameterTolerance * scale;
       o.parameter_ok_relative = std::abs(o.estimate - o.truth) <= kParameterTolerance * std::abs(o.truth);
     }
@@ -173,6 +190,7 @@ std::vector<HarnessOutcome> runHarness(const TireParams& base, const HarnessOpti
           d.solver = dopt.solver;
           o.reference = detectability(base, buildDiagnosisData(cc.noise_free), cases[i].spec.effect, d);
           o.information = true;
+          if (!cc.answer.primary.empty()) o.reference_parameter_ok = referenceParameterOk(cc.answer, o.reference);
         }
       } catch (const std::exception& e) {
         o.c = cases[i];
@@ -202,6 +220,8 @@ std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
     int n = 0, right = 0, named = 0, pscored = 0, pok = 0, pok_relative = 0, pestimated = 0, pcovered = 0,
         iscored = 0, iok = 0, all_met = 0, errors = 0, referenced = 0;
     double expected_right = 0.0;  ///< sum of the cases' detectability references
+    int parameter_referenced = 0;
+    double expected_parameter = 0.0;  ///< sum of their reference_parameter_ok
 
     void add(const HarnessOutcome& o) {
       if (!o.error.empty()) {
@@ -221,19 +241,29 @@ std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
       iok += o.improved;
       referenced += o.information;
       if (o.information) expected_right += o.reference.expected_right;
+      if (std::isfinite(o.reference_parameter_ok)) {
+        ++parameter_referenced;
+        expected_parameter += o.reference_parameter_ok;
+      }
     }
-    /// Mean detectability reference in percent, "-" without one.
-    std::string expected() const {
-      if (referenced == 0) return "-";
+    /// Mean detectability reference of the explanation and of the parameter in percent, "-" without one.
+    std::string expected() const { return meanPercent(expected_right, referenced); }
+    std::string expectedParameter() const { return meanPercent(expected_parameter, parameter_referenced); }
+    static std::string meanPercent(double sum, int count) {
+      if (count == 0) return "-";
       std::ostringstream s;
-      s << std::fixed << std::setprecision(1) << 100.0 * expected_right / referenced << "%";
+      s << std::fixed << std::setprecision(1) << 100.0 * sum / count << "%";
       return s.str();
     }
   };
   const bool information =
       std::any_of(outcomes.begin(), outcomes.end(), [](const HarnessOutcome& o) { return o.information; });
   auto referenceColumn = [&](const Tally& t) { return information ? " " + t.expected() + " |" : std::string(); };
+  auto parameterReferenceColumn = [&](const Tally& t) {
+    return information ? " " + t.expectedParameter() + " |" : std::string();
+  };
   const std::string reference_header = information ? " expected right (detectability reference) |" : "";
+  const std::string parameter_reference_header = information ? " expected parameter within 25% (reference) |" : "";
   const std::string reference_rule = information ? "---|" : "";
 
   std::map<std::tuple<std::string, std::string, double>, Tally> rows;
@@ -250,26 +280,26 @@ std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
   }
   std::ostringstream s;
   s << "| hidden effect | magnitude | wear RSD | cases | right explanation |" << reference_header
-    << " parameter within 25% | held-out RMSER improved |\n|---|---|---|---|---|" << reference_rule << "---|---|\n";
+    << " parameter within 25% |" << parameter_reference_header << " held-out RMSER improved |\n|---|---|---|---|---|"
+    << reference_rule << "---|" << reference_rule << "---|\n";
   for (const std::string& e : order)
     for (const auto& [key, t] : rows) {
       if (std::get<0>(key) != e) continue;
       s << "| " << e << " | " << std::get<1>(key) << " | " << std::get<2>(key) * 100 << "% | " << t.n + t.errors
-        << " | " << pct(t.right, t.n) << " |" << referenceColumn(t) << " " << pct(t.pok, t.pscored) << " | "
-        << pct(t.iok, t.iscored) << " |" << (t.errors ? " " + std::to_string(t.errors) + " failed" : "") << "\n";
+        << " | " << pct(t.right, t.n) << " |" << referenceColumn(t) << " " << pct(t.pok, t.pscored) << " |"
+        << parameterReferenceColumn(t) << " " << pct(t.iok, t.iscored) << " |" << (t.errors ? " " + std::to_string(t.errors) + " failed" : "") << "\n";
     }
   s << "\nPer effect (all magnitudes):\n\n| hidden effect | wear RSD | cases | right explanation (`none` for "
        "controls) |"
-    << reference_header
-    << " parameter within 25% | truth within 2 standard errors (when selected) | held-out RMSER improved |\n"
-       "|---|---|---|---|"
-    << reference_rule << "---|---|---|\n";
+    << reference_header << " parameter within 25% |" << parameter_reference_header
+    << " truth within 2 standard errors (when selected) | held-out RMSER improved |\n|---|---|---|---|"
+    << reference_rule << "---|" << reference_rule << "---|---|\n";
   for (const std::string& e : order)
     for (const auto& [key, t] : per_effect) {
       if (key.first != e) continue;
       s << "| " << e << " | " << key.second * 100 << "% | " << t.n + t.errors << " | " << pct(t.right, t.n) << " |"
-        << referenceColumn(t) << " " << pct(t.pok, t.pscored) << " | " << pct(t.pcovered, t.pestimated) << " | "
-        << pct(t.iok, t.iscored) << " |\n";
+        << referenceColumn(t) << " " << pct(t.pok, t.pscored) << " |" << parameterReferenceColumn(t) << " "
+        << pct(t.pcovered, t.pestimated) << " | " << pct(t.iok, t.iscored) << " |\n";
     }
   for (const auto& [noise, total] : totals) {
     const auto& [effects, controls] = total;
@@ -285,7 +315,8 @@ std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
     if (information)
       s << "Detectability reference (a selector that knows the noise levels, detectability.h): expected right "
            "explanation "
-        << effects.expected() << " of the hidden effects, `none` " << controls.expected() << " of the controls.\n";
+        << effects.expected() << " of the hidden effects, parameter within 25% " << effects.expectedParameter()
+        << ", `none` " << controls.expected() << " of the controls.\n";
   }
   return s.str();
 }
@@ -295,7 +326,7 @@ std::string harnessCsv(const std::vector<HarnessOutcome>& outcomes) {
   s << std::setprecision(8);
   s << "effect,magnitude_label,magnitude,wear_noise_rsd,side_force_noise_n,seed,explanation,right,named,parameter_ok,"
        "parameter_ok_relative,all_met,estimate,truth,std_error,covered,improved,cv_before_side_force,cv_before_wear,cv_after_side_force,cv_after_wear,reference_lambda,"
-       "reference_power,reference_expected_right,reference_top_wrong,reference_top_wrong_share,seconds,error\n";
+       "reference_power,reference_expected_right,reference_parameter_ok,reference_top_wrong,reference_top_wrong_share,seconds,error\n";
   for (const HarnessOutcome& o : outcomes)
     s << o.c.spec.effect << "," << o.c.magnitude_label << "," << o.c.spec.magnitude << "," << o.c.spec.wear_noise_rsd
       << "," << o.c.spec.side_force_noise_n << "," << o.c.spec.seed << "," << o.explanation << "," << o.right << ","

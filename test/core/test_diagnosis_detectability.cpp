@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 #include "tread_wear/core/diagnosis/conceal.h"
 #include "tread_wear/core/diagnosis/detectability.h"
@@ -146,6 +147,59 @@ TEST(DiagnosisDetectability, OracleDetectionRateMatchesTheNoncentralF) {
     // Monte Carlo error (4 standard errors) plus 0.01 for the linearisation.
     EXPECT_NEAR(d.expected_right, d.power, 4.0 * std::sqrt(0.25 / o.draws) + 0.01) << effect;
   }
+}
+
+TEST(DiagnosisDetectability, ReferenceStandardErrorIsTheSpreadOfNoisyFits) {
+  // The offset's reference standard error against the spread of real (nonlinear) fits of base + offset, weighted by
+  // the true noise, to 100 noisy copies of the case.
+  const TireParams base;
+  const ConcealSpec spec = smallDesignCase("sensor_offset", 2.0);
+  const ConcealCase c = concealEffect(base, spec);
+  const DiagnosisData truth = buildDiagnosisData(c.noise_free);
+  DetectabilityOptions o;
+  o.draws = 100;
+  o.candidates = {Term::kSensorOffset};
+  const Detectability d = detectability(base, truth, "sensor_offset", o);
+  double reference_se = NAN;
+  for (const ReferenceParameter& p : d.parameters)
+    if (p.name == "side_force_offset_n") reference_se = p.std_error;
+  ASSERT_TRUE(std::isfinite(reference_se));
+
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  const int copies = 100;
+  double sum = 0.0, sum_sq = 0.0;
+  for (int k = 0; k < copies; ++k) {
+    DiagnosisData noisy = truth;
+    for (DiagnosisRun& r : noisy.runs) {
+      r.measured[0] += o.side_force_noise_n * normal(rng);
+      r.measured[1] *= 1.0 + o.wear_noise_rsd * normal(rng);
+    }
+    const ExtendedModel model(base, o.model, {Term::kSensorOffset}, noisy);
+    LeastSquaresProblem problem;
+    problem.parameters = model.parameters();
+    problem.num_records = static_cast<int>(noisy.runs.size());
+    problem.residuals_per_record = 2;
+    problem.residuals = [&](const std::vector<double>& values, const std::vector<int>& records, double* res) {
+      Prediction pred;
+      if (!model.predict(values, &pred)) return false;
+      for (std::size_t i = 0; i < records.size(); ++i) {
+        const DiagnosisRun& r = noisy.runs[records[i]];
+        res[2 * i] = (pred.side_force_n[records[i]] - r.measured[0]) / o.side_force_noise_n;
+        res[2 * i + 1] = (pred.wear_kg_per_m[records[i]] / r.measured[1] - 1.0) / o.wear_noise_rsd;
+      }
+      return true;
+    };
+    const LeastSquaresSummary fit = solveLeastSquares(problem, LeastSquaresOptions{});
+    ASSERT_TRUE(fit.usable);
+    const double offset = fit.values()[model.parameterOffset(Term::kSensorOffset)];
+    sum += offset;
+    sum_sq += offset * offset;
+  }
+  const double mean = sum / copies, spread = std::sqrt((sum_sq - copies * mean * mean) / (copies - 1));
+  // The sample standard deviation of 100 estimates is within about 7% of the true one (one standard error).
+  EXPECT_NEAR(spread / reference_se, 1.0, 0.25) << "spread " << spread << " reference " << reference_se;
+  EXPECT_NEAR(mean, 2.0, 4.0 * reference_se / std::sqrt(copies));
 }
 
 TEST(DiagnosisDetectability, InvalidOptionsAndTermsNameTheProblem) {

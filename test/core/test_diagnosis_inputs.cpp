@@ -202,8 +202,9 @@ TEST(DiagnosisHarness, TableTotalsPerNoiseLevel) {
 }
 
 TEST(DiagnosisHarness, TableShowsTheDetectabilityReference) {
-  // Two gain cases whose references are 0.9 and 0.6 and a control with 0.99: the column holds their means.
-  auto outcome = [](const std::string& effect, bool right, double reference) {
+  // Two gain cases whose references are 0.9 and 0.6 (parameter 0.8 and 0.4) and a control with 0.99: the columns
+  // hold their means.
+  auto outcome = [](const std::string& effect, bool right, double reference, double parameter) {
     HarnessOutcome o;
     o.c.spec.effect = effect;
     o.c.spec.wear_noise_rsd = 0.05;
@@ -212,22 +213,27 @@ TEST(DiagnosisHarness, TableShowsTheDetectabilityReference) {
     o.information = true;
     o.reference.hidden = effect;
     o.reference.expected_right = reference;
+    o.reference_parameter_ok = parameter;
     return o;
   };
-  const std::string table = harnessTable(
-      {outcome("sensor_gain", true, 0.9), outcome("sensor_gain", false, 0.6), outcome("none", true, 0.99)});
-  EXPECT_NE(table.find("| right explanation | expected right (detectability reference) | parameter within 25% |"),
+  const std::string table = harnessTable({outcome("sensor_gain", true, 0.9, 0.8), outcome("sensor_gain", false, 0.6, 0.4),
+                                          outcome("none", true, 0.99, std::nan(""))});
+  EXPECT_NE(table.find("| right explanation | expected right (detectability reference) | parameter within 25% | "
+                       "expected parameter within 25% (reference) | held-out RMSER improved |"),
             std::string::npos)
       << table;
-  EXPECT_NE(table.find("| sensor_gain | small | 5% | 2 | 50.0% (1/2) | 75.0% | - | - |"), std::string::npos) << table;
-  EXPECT_NE(table.find("| none | 5% | 1 | 100% (1/1) | 99.0% | - | - | - |"), std::string::npos) << table;
-  EXPECT_NE(table.find("expected right explanation 75.0% of the hidden effects, `none` 99.0% of the controls."),
+  EXPECT_NE(table.find("| sensor_gain | small | 5% | 2 | 50.0% (1/2) | 75.0% | - | 60.0% | - |"), std::string::npos)
+      << table;
+  EXPECT_NE(table.find("| none | 5% | 1 | 100% (1/1) | 99.0% | - | - | - | - |"), std::string::npos) << table;
+  EXPECT_NE(table.find("expected right explanation 75.0% of the hidden effects, parameter within 25% 60.0%, `none` "
+                       "99.0% of the controls."),
             std::string::npos)
       << table;
   // Without references the table has no such column.
-  HarnessOutcome plain = outcome("sensor_gain", true, 0.9);
+  HarnessOutcome plain = outcome("sensor_gain", true, 0.9, 0.8);
   plain.information = false;
-  EXPECT_EQ(harnessTable({plain}).find("detectability"), std::string::npos);
+  plain.reference_parameter_ok = std::nan("");
+  EXPECT_EQ(harnessTable({plain}).find("reference"), std::string::npos);
 }
 
 // The documented example (examples/diagnosis/README.md) end to end through the command line: exit 0, the verdict

@@ -22,6 +22,8 @@
 ///    estimates the noise levels and weights the error ratios of one output alike, so it can fall short of this
 ///    reference; being a probability per case, the reference has no draw-to-draw scatter, which the measured 0/1
 ///    outcomes have.
+///  - Parameters: the standard errors of the hidden model's parameters at the truth, (J^T J)^-1 in noise units,
+///    the precision that a fit with the true noise weights reaches (the diagnosis's HC3 errors estimate the same).
 /// Limits: linearised (small effects); the first selection step only (no pairs).
 
 #include <cstdint>
@@ -50,6 +52,14 @@ struct DetectabilityOptions {
   bool validate(std::string* error) const;
 };
 
+/// A parameter of the hidden term's model fitted to its own noise-free recordings (the truth), with the standard
+/// error of its estimate on noisy recordings (linearised, known noise): the reference for the estimate's precision.
+struct ReferenceParameter {
+  std::string name;
+  double value = 0.0;      ///< [unit of the parameter]
+  double std_error = std::numeric_limits<double>::quiet_NaN();  ///< [unit]; NaN on a bound
+};
+
 /// One verdict of the oracle and how often it is reached.
 struct OracleVerdict {
   std::string verdict;        ///< library name or "none"
@@ -63,6 +73,7 @@ struct Detectability {
   double power = std::numeric_limits<double>::quiet_NaN();  ///< of the first-step F test of the hidden term [-]; NaN for none
   std::vector<OracleVerdict> verdicts;  ///< most likely first
   double expected_right = 0.0;          ///< share of the verdicts that name the hidden term (or none) [-]
+  std::vector<ReferenceParameter> parameters;  ///< of base + the hidden term; empty for none
 };
 
 /// The reference for recordings `truth` whose measured values are the noise-free outputs with `hidden` ("none"

@@ -17,7 +17,9 @@
 ///   none       (controls) the verdict is "none"
 /// With HarnessOptions::information, each case also gets its detectability reference (detectability.h), computed
 /// on the case's own noise-free recordings: the probability that a selector knowing the noise levels names the
-/// hidden term. Its mean over the cases is the rate that the recordings allow, beside the rate measured.
+/// hidden term. Its mean over the cases is the rate that the recordings allow, beside the rate measured. Likewise
+/// for the parameter: the probability of the right explanation times that of an estimate within 25% of the effect,
+/// 2 Phi(0.25 |effect| / SE) - 1 for an unbiased estimate with the reference's standard error SE.
 
 #include <cstdint>
 #include <ostream>
@@ -50,6 +52,7 @@ struct HarnessOutcome {
   double cv_before[kNumOutputs] = {0.0, 0.0}, cv_after[kNumOutputs] = {0.0, 0.0};
   bool information = false;  ///< the reference below was computed
   Detectability reference;   ///< detectability of the hidden term on this case's noise-free recordings
+  double reference_parameter_ok = std::numeric_limits<double>::quiet_NaN();  ///< probability, see above [-]
   double seconds = 0.0;
   std::string error;  ///< non-empty when the case failed to run
 };
