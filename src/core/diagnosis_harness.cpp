@@ -71,8 +71,8 @@ double referenceParameterOk(const ConcealAnswer& answer, const Detectability& re
   return std::numeric_limits<double>::quiet_NaN();
 }
 
-/// The detectability columns of a CSV line: lambda, power, expected right, parameter, and the oracle's most likely wrong
-/// verdict with its share (empty without a reference).
+/// The detectability columns of a CSV line: lambda, power, expected right, parameter, and the oracle's most likely
+/// wrong verdict with its share (empty without a reference).
 std::string referenceCsv(const HarnessOutcome& o) {
   if (!o.information) return ",,,,,";
   const Detectability& d = o.reference;
@@ -287,7 +287,8 @@ std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
       if (std::get<0>(key) != e) continue;
       s << "| " << e << " | " << std::get<1>(key) << " | " << std::get<2>(key) * 100 << "% | " << t.n + t.errors
         << " | " << pct(t.right, t.n) << " |" << referenceColumn(t) << " " << pct(t.pok, t.pscored) << " |"
-        << parameterReferenceColumn(t) << " " << pct(t.iok, t.iscored) << " |" << (t.errors ? " " + std::to_string(t.errors) + " failed" : "") << "\n";
+        << parameterReferenceColumn(t) << " " << pct(t.iok, t.iscored) << " |"
+        << (t.errors ? " " + std::to_string(t.errors) + " failed" : "") << "\n";
     }
   s << "\nPer effect (all magnitudes):\n\n| hidden effect | wear RSD | cases | right explanation (`none` for "
        "controls) |"
@@ -325,8 +326,9 @@ std::string harnessCsv(const std::vector<HarnessOutcome>& outcomes) {
   std::ostringstream s;
   s << std::setprecision(8);
   s << "effect,magnitude_label,magnitude,wear_noise_rsd,side_force_noise_n,seed,explanation,right,named,parameter_ok,"
-       "parameter_ok_relative,all_met,estimate,truth,std_error,covered,improved,cv_before_side_force,cv_before_wear,cv_after_side_force,cv_after_wear,reference_lambda,"
-       "reference_power,reference_expected_right,reference_parameter_ok,reference_top_wrong,reference_top_wrong_share,seconds,error\n";
+       "parameter_ok_relative,all_met,estimate,truth,std_error,covered,improved,cv_before_side_force,cv_before_wear,"
+       "cv_after_side_force,cv_after_wear,reference_lambda,reference_power,reference_expected_right,"
+       "reference_parameter_ok,reference_top_wrong,reference_top_wrong_share,seconds,error\n";
   for (const HarnessOutcome& o : outcomes)
     s << o.c.spec.effect << "," << o.c.magnitude_label << "," << o.c.spec.magnitude << "," << o.c.spec.wear_noise_rsd
       << "," << o.c.spec.side_force_noise_n << "," << o.c.spec.seed << "," << o.explanation << "," << o.right << ","
@@ -335,7 +337,8 @@ std::string harnessCsv(const std::vector<HarnessOutcome>& outcomes) {
       << (o.c.spec.effect == "none" ? "" : std::to_string(o.all_met)) << "," << o.estimate << "," << o.truth << ","
       << o.std_error << "," << (o.parameter_estimated ? std::to_string(o.parameter_covered) : "") << ","
       << (o.improved_scored ? std::to_string(o.improved) : "") << "," << o.cv_before[0] << "," << o.cv_before[1]
-      << "," << o.cv_after[0] << "," << o.cv_after[1] << "," << referenceCsv(o) << "," << o.seconds << ",\"" << o.error << "\"\n";
+      << "," << o.cv_after[0] << "," << o.cv_after[1] << "," << referenceCsv(o) << "," << o.seconds << ",\""
+      << o.error << "\"\n";
   return s.str();
 }
 

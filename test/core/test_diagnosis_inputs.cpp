@@ -1,6 +1,8 @@
 // Malformed inputs of the diagnosis tools get clear errors and the documented exit codes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -216,7 +218,8 @@ TEST(DiagnosisHarness, TableShowsTheDetectabilityReference) {
     o.reference_parameter_ok = parameter;
     return o;
   };
-  const std::string table = harnessTable({outcome("sensor_gain", true, 0.9, 0.8), outcome("sensor_gain", false, 0.6, 0.4),
+  const std::string table = harnessTable({outcome("sensor_gain", true, 0.9, 0.8),
+                                          outcome("sensor_gain", false, 0.6, 0.4),
                                           outcome("none", true, 0.99, std::nan(""))});
   EXPECT_NE(table.find("| right explanation | expected right (detectability reference) | parameter within 25% | "
                        "expected parameter within 25% (reference) | held-out RMSER improved |"),
@@ -229,6 +232,20 @@ TEST(DiagnosisHarness, TableShowsTheDetectabilityReference) {
                        "99.0% of the controls."),
             std::string::npos)
       << table;
+  // The CSV carries the reference beside the outcome: lambda, power, expected right, parameter, and the oracle's
+  // most likely wrong verdict with its share.
+  HarnessOutcome with_verdicts = outcome("sensor_gain", true, 0.9, 0.8);
+  with_verdicts.reference.lambda = 15.0;
+  with_verdicts.reference.power = 0.7;
+  with_verdicts.reference.verdicts = {{"sensor_gain", 0.9}, {"sensor_offset", 0.07}, {"none", 0.03}};
+  const std::string csv_text = harnessCsv({with_verdicts});
+  const std::string header = csv_text.substr(0, csv_text.find('\n'));
+  const std::string line = csv_text.substr(header.size() + 1);
+  EXPECT_EQ(std::count(header.begin(), header.end(), ','), std::count(line.begin(), line.end(), ',')) << csv_text;
+  EXPECT_NE(header.find(",reference_lambda,reference_power,reference_expected_right,reference_parameter_ok,"
+                        "reference_top_wrong,reference_top_wrong_share,"),
+            std::string::npos);
+  EXPECT_NE(line.find(",15,0.7,0.9,0.8,sensor_offset,0.07,"), std::string::npos) << line;
   // Without references the table has no such column.
   HarnessOutcome plain = outcome("sensor_gain", true, 0.9, 0.8);
   plain.information = false;

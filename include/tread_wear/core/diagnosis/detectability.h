@@ -70,7 +70,8 @@ struct Detectability {
   std::string hidden;         ///< library name, or "none"
   int terms_tried = 0;        ///< m: the candidate terms the data can show
   double lambda = 0.0;        ///< lambda_A [-]; 0 for none
-  double power = std::numeric_limits<double>::quiet_NaN();  ///< of the first-step F test of the hidden term [-]; NaN for none
+  /// Power of the first-step F test of the hidden term [-]; NaN for none.
+  double power = std::numeric_limits<double>::quiet_NaN();
   std::vector<OracleVerdict> verdicts;  ///< most likely first
   double expected_right = 0.0;          ///< share of the verdicts that name the hidden term (or none) [-]
   std::vector<ReferenceParameter> parameters;  ///< of base + the hidden term; empty for none
