@@ -1,5 +1,6 @@
 #include "tread_wear/core/diagnosis/cli.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -236,6 +237,8 @@ int runHarnessCli(int argc, const char* const argv[], std::ostream& out, std::os
   }
   if (a.has("one-magnitude")) h.two_magnitudes = false;
   h.information = a.has("information");
+  if (h.information && std::find(h.wear_noise.begin(), h.wear_noise.end(), 0.0) != h.wear_noise.end())
+    return usage("--information needs every --noise level > 0 (the reference is measured in units of the noise)");
   for (const std::string& name : splitList(a.get("effects"))) {
     Term t;
     if (name != "none" && !parseTerm(name, &t)) return usage("--effects: '" + name + "' is not a library term");

@@ -38,6 +38,15 @@ CliResult diagnoseCli(std::vector<std::string> args, const BagReader& reader = {
   return {code, out.str(), err.str()};
 }
 
+CliResult harnessCli(std::vector<std::string> args) {
+  args.insert(args.begin(), "tread_wear_diagnosis_harness");
+  std::vector<const char*> argv;
+  for (const std::string& a : args) argv.push_back(a.c_str());
+  std::ostringstream out, err;
+  const int code = runHarnessCli(static_cast<int>(argv.size()), argv.data(), out, err);
+  return {code, out.str(), err.str()};
+}
+
 CliResult concealCli(std::vector<std::string> args) {
   args.insert(args.begin(), "tread_wear_conceal");
   std::vector<const char*> argv;
@@ -251,6 +260,23 @@ TEST(DiagnosisHarness, TableShowsTheDetectabilityReference) {
   plain.information = false;
   plain.reference_parameter_ok = std::nan("");
   EXPECT_EQ(harnessTable({plain}).find("reference"), std::string::npos);
+}
+
+// The harness from the command line: a two-case run with the detectability reference, and the usage errors.
+TEST(DiagnosisHarnessCli, RunsWithTheReferenceAndRejectsBadUsage) {
+  const CliResult r = harnessCli({"--params", kParams, "--quick", "--effects", "sensor_offset", "--repeats", "1",
+                                  "--controls", "1", "--information"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("| sensor_offset | default | 5% | 1 |"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("Detectability reference"), std::string::npos) << r.out;
+  const CliResult zero_noise = harnessCli({"--params", kParams, "--quick", "--noise", "0", "--information"});
+  EXPECT_EQ(zero_noise.code, 2);
+  EXPECT_NE(zero_noise.err.find("--information needs every --noise level > 0"), std::string::npos) << zero_noise.err;
+  EXPECT_EQ(harnessCli({"--quick"}).code, 2);  // no --params
+  EXPECT_EQ(harnessCli({"--params", kParams, "--repeats", "0"}).code, 2);
+  EXPECT_EQ(harnessCli({"--params", kParams, "--effects", "magic"}).code, 2);
+  EXPECT_EQ(harnessCli({"--params", kParams, "--noise", "0.9"}).code, 2);
+  EXPECT_EQ(harnessCli({"--params", kSource + "/no/such/file.yaml", "--quick", "--effects", "sensor_offset"}).code, 1);
 }
 
 // The documented example (examples/diagnosis/README.md) end to end through the command line: exit 0, the verdict
