@@ -192,12 +192,12 @@ int runConcealCli(int argc, const char* const argv[], std::ostream& out, std::os
 int runHarnessCli(int argc, const char* const argv[], std::ostream& out, std::ostream& err) {
   const char* usage_text =
       "usage: tread_wear_diagnosis_harness --params FILE [--quick] [--design table2|small] [--repeats N]\n"
-      "       [--controls N] [--effects a,b] [--noise 0.05,0.10] [--one-magnitude] [--information] [--jobs N]\n"
-      "       [--seed N] [--csv OUT]\n";
+      "       [--controls N] [--effects a,b] [--noise 0.05,0.10] [--one-magnitude] [--information] [--alpha-select X]\n"
+      "       [--jobs N] [--seed N] [--csv OUT]\n";
   CommandLine a;
   std::string parse_error;
   const bool parsed = a.parse(argc, argv,
-               {"params", "design", "repeats", "controls", "effects", "noise", "jobs", "seed", "csv"},
+               {"params", "design", "repeats", "controls", "effects", "noise", "jobs", "seed", "csv", "alpha-select"},
                {"quick", "one-magnitude", "information"}, &parse_error);
   auto usage = [&](const std::string& msg) { return usageError(err, "tread_wear_diagnosis_harness", msg, usage_text); };
   if (a.help()) {
@@ -219,8 +219,10 @@ int runHarnessCli(int argc, const char* const argv[], std::ostream& out, std::os
   std::string e;
   int seed = static_cast<int>(h.seed);
   if (!a.integer("repeats", &h.repeats, &e) || !a.integer("controls", &h.control_repeats, &e) ||
-      !a.integer("jobs", &h.jobs, &e) || !a.integer("seed", &seed, &e))
+      !a.integer("jobs", &h.jobs, &e) || !a.integer("seed", &seed, &e) ||
+      !a.number("alpha-select", &h.diagnosis.alpha_select, &e))
     return usage(e);
+  if (!h.diagnosis.validate(&e)) return usage(e);
   if (h.repeats < 1) return usage("--repeats must be an integer >= 1");
   if (h.control_repeats < 0) return usage("--controls must be an integer >= 0");
   if (h.jobs < 1 || h.jobs > 64) return usage("--jobs must be an integer in 1..64");

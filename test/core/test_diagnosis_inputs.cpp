@@ -276,6 +276,9 @@ TEST(DiagnosisHarnessCli, RunsWithTheReferenceAndRejectsBadUsage) {
   EXPECT_EQ(harnessCli({"--params", kParams, "--repeats", "0"}).code, 2);
   EXPECT_EQ(harnessCli({"--params", kParams, "--effects", "magic"}).code, 2);
   EXPECT_EQ(harnessCli({"--params", kParams, "--noise", "0.9"}).code, 2);
+  const CliResult alpha = harnessCli({"--params", kParams, "--alpha-select", "1.5"});
+  EXPECT_EQ(alpha.code, 2);
+  EXPECT_NE(alpha.err.find("alpha_select"), std::string::npos) << alpha.err;
   EXPECT_EQ(harnessCli({"--params", kSource + "/no/such/file.yaml", "--quick", "--effects", "sensor_offset"}).code, 1);
 }
 

@@ -31,7 +31,8 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
 int runConcealCli(int argc, const char* const argv[], std::ostream& out, std::ostream& err);
 
 /// tread_wear_diagnosis_harness --params FILE [--quick] [--design table2|small] [--repeats N] [--controls N]
-///     [--effects a,b] [--noise 0.05,0.10] [--one-magnitude] [--information] [--jobs N] [--seed N] [--csv OUT.csv]
+///     [--effects a,b] [--noise 0.05,0.10] [--one-magnitude] [--information] [--alpha-select X] [--jobs N]
+///     [--seed N] [--csv OUT.csv]
 /// Prints progress to err and the success-rate table to out; --information adds each case's detectability
 /// reference (detectability.h).
 int runHarnessCli(int argc, const char* const argv[], std::ostream& out, std::ostream& err);
