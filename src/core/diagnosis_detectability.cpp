@@ -97,20 +97,14 @@ class Linearisation {
     std::vector<int> column_parameter;
     for (std::size_t j = 0; j < values.size(); ++j) {
       const ParameterEstimate& est = best.parameters[j];
-      const double scale = std::max({std::abs(values[j]), std::abs(params[j].initial), 1e-12});
-      const double h = kJacobianStep * scale;
-      std::vector<double> up = values, down = values;
-      Eigen::VectorXd r_up, r_down;
       if (est.at_upper) continue;  // an effect driven to its upper bound: held there (rare; conservative)
+      const double h = kJacobianStep * std::max({std::abs(values[j]), std::abs(params[j].initial), 1e-12});
+      std::vector<double> up = values, down = values;
       up[j] += h;
-      if (!residualVector(model, up, &r_up)) return m;
-      if (est.at_lower) {
-        columns.push_back((r_up - r0) / h);
-      } else {
-        down[j] -= h;
-        if (!residualVector(model, down, &r_down)) return m;
-        columns.push_back((r_up - r_down) / (2.0 * h));
-      }
+      down[j] -= est.at_lower ? 0.0 : h;
+      Eigen::VectorXd r_up, r_down;
+      if (!residualVector(model, up, &r_up) || !residualVector(model, down, &r_down)) return m;
+      columns.push_back((r_up - r_down) / (up[j] - down[j]));
       lower_bound.push_back(est.at_lower);
       column_parameter.push_back(static_cast<int>(j));
     }
@@ -124,18 +118,18 @@ class Linearisation {
       m.parameters.push_back({params[j].name, values[j], std::numeric_limits<double>::quiet_NaN()});
     for (std::size_t c = 0; c < column_parameter.size(); ++c)
       if (!lower_bound[c]) m.parameters[column_parameter[c]].std_error = m.pseudo_inverse.row(c).norm();
+    // Parameters on their lower bound: one may move inwards (one_sided); several are held there.
     const int bounded = static_cast<int>(std::count(lower_bound.begin(), lower_bound.end(), true));
-    if (bounded == 1) {
-      m.one_sided = static_cast<int>(std::find(lower_bound.begin(), lower_bound.end(), true) - lower_bound.begin());
-      Eigen::MatrixXd without(jacobian.rows(), jacobian.cols() - 1);
+    if (bounded > 0) {
+      Eigen::MatrixXd free_columns(jacobian.rows(), jacobian.cols() - bounded);
       for (int j = 0, c = 0; j < jacobian.cols(); ++j)
-        if (j != m.one_sided) without.col(c++) = jacobian.col(j);
-      m.basis_without = thinQ(without);
-    } else if (bounded > 1) {  // several on their bounds: hold them all there
-      Eigen::MatrixXd without(jacobian.rows(), jacobian.cols() - bounded);
-      for (int j = 0, c = 0; j < jacobian.cols(); ++j)
-        if (!lower_bound[j]) without.col(c++) = jacobian.col(j);
-      m.basis = thinQ(without);
+        if (!lower_bound[j]) free_columns.col(c++) = jacobian.col(j);
+      if (bounded == 1) {
+        m.one_sided = static_cast<int>(std::find(lower_bound.begin(), lower_bound.end(), true) - lower_bound.begin());
+        m.basis_without = thinQ(free_columns);
+      } else {
+        m.basis = thinQ(free_columns);
+      }
     }
     m.usable = true;
     return m;
