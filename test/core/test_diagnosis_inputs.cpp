@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <sstream>
 
@@ -29,31 +30,31 @@ struct CliResult {
   std::string out, err;
 };
 
-CliResult diagnoseCli(std::vector<std::string> args, const BagReader& reader = {}) {
-  args.insert(args.begin(), "tread_wear_diagnose");
+/// Runs one of the diagnosis command lines in-process with `program` as argv[0].
+using CliFunction = std::function<int(int, const char* const[], std::ostream&, std::ostream&)>;
+CliResult runCli(const std::string& program, const CliFunction& cli, std::vector<std::string> args) {
+  args.insert(args.begin(), program);
   std::vector<const char*> argv;
   for (const std::string& a : args) argv.push_back(a.c_str());
   std::ostringstream out, err;
-  const int code = runDiagnoseCli(static_cast<int>(argv.size()), argv.data(), reader, "", out, err);
+  const int code = cli(static_cast<int>(argv.size()), argv.data(), out, err);
   return {code, out.str(), err.str()};
+}
+
+CliResult diagnoseCli(std::vector<std::string> args, const BagReader& reader = {}) {
+  return runCli("tread_wear_diagnose",
+                [&](int argc, const char* const argv[], std::ostream& out, std::ostream& err) {
+                  return runDiagnoseCli(argc, argv, reader, "", out, err);
+                },
+                std::move(args));
 }
 
 CliResult harnessCli(std::vector<std::string> args) {
-  args.insert(args.begin(), "tread_wear_diagnosis_harness");
-  std::vector<const char*> argv;
-  for (const std::string& a : args) argv.push_back(a.c_str());
-  std::ostringstream out, err;
-  const int code = runHarnessCli(static_cast<int>(argv.size()), argv.data(), out, err);
-  return {code, out.str(), err.str()};
+  return runCli("tread_wear_diagnosis_harness", runHarnessCli, std::move(args));
 }
 
 CliResult concealCli(std::vector<std::string> args) {
-  args.insert(args.begin(), "tread_wear_conceal");
-  std::vector<const char*> argv;
-  for (const std::string& a : args) argv.push_back(a.c_str());
-  std::ostringstream out, err;
-  const int code = runConcealCli(static_cast<int>(argv.size()), argv.data(), out, err);
-  return {code, out.str(), err.str()};
+  return runCli("tread_wear_conceal", runConcealCli, std::move(args));
 }
 
 }  // namespace
