@@ -227,8 +227,16 @@ Detectability detectability(const TireParams& base, const DiagnosisData& truth, 
     LinearisedModel m = linearisation.fit({t});
     if (m.usable) candidates.push_back(std::move(m));
   }
+  int largest_k = base_model.k;
+  for (const LinearisedModel& m : candidates) largest_k = std::max(largest_k, m.k);
+  if (n - largest_k - 1 <= 0)
+    throw std::invalid_argument("detectability: " + std::to_string(n) + " measured values are too few for models with " +
+                                std::to_string(largest_k) + " parameters");
   d.lambda = base_model.residual.squaredNorm();
-  if (hidden_term != Term::kCount) {
+  const bool hidden_tried = std::find(applicable.begin(), applicable.end(), hidden_term) != applicable.end();
+  if (hidden_term != Term::kCount && !hidden_tried) {
+    d.power = 0.0;  // the data cannot show it (e.g. no temperatures for a thermal term): never tested
+  } else if (hidden_term != Term::kCount) {
     for (const LinearisedModel& m : candidates)
       if (m.terms.front() == hidden_term) d.parameters = m.parameters;
     const int k_term = parameterCount({hidden_term}) - base_model.k;

@@ -218,4 +218,22 @@ TEST(DiagnosisDetectability, InvalidOptionsAndTermsNameTheProblem) {
   o.draws = 10;
   EXPECT_THROW(detectability(base, data, "none", o), std::invalid_argument);
   EXPECT_THROW(detectability(base, data, "tyre_pressure", DetectabilityOptions{}), std::invalid_argument);
+  // Without tread temperatures no thermal term can be shown: never tested, never named.
+  DiagnosisData no_temperatures = data;
+  no_temperatures.has_temperature = false;
+  o = DetectabilityOptions{};
+  o.draws = 100;
+  const Detectability thermal = detectability(base, no_temperatures, "thermal_wear", o);
+  EXPECT_EQ(thermal.power, 0.0);
+  EXPECT_EQ(thermal.expected_right, 0.0);
+  // Too few measured values for the models: a clear error, not a negative degree of freedom.
+  DiagnosisData two_runs = data;
+  two_runs.runs.resize(2);
+  two_runs.measured_count[0] = two_runs.measured_count[1] = 2;
+  try {
+    detectability(base, two_runs, "none", o);
+    FAIL() << "two runs accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("too few"), std::string::npos) << e.what();
+  }
 }

@@ -78,7 +78,9 @@ struct Detectability {
 };
 
 /// The reference for recordings `truth` whose measured values are the noise-free outputs with `hidden` ("none"
-/// or a library name) switched on. @throw std::invalid_argument for invalid options or an unknown term.
+/// or a library name) switched on. A hidden term that the data cannot show (termApplicable) has power 0.
+/// @throw std::invalid_argument for invalid options, an unknown term, or fewer measured values than the models
+/// need.
 Detectability detectability(const TireParams& base, const DiagnosisData& truth, const std::string& hidden,
                             const DetectabilityOptions& options);
 
