@@ -66,7 +66,7 @@ struct HarnessOptions {
   std::vector<std::string> effects;             ///< empty = every library term
   bool two_magnitudes = true;                   ///< small and large magnitude (else the default only)
   int jobs = 1;                                 ///< worker threads
-  bool information = false;                     ///< also each case's detectability reference (about +50% time)
+  bool information = false;                     ///< also each case's detectability reference (about a third more time)
   std::uint64_t seed = 1000;
   DiagnosisOptions diagnosis;
 };
