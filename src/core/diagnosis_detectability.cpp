@@ -230,8 +230,8 @@ Detectability detectability(const TireParams& base, const DiagnosisData& truth, 
   int largest_k = base_model.k;
   for (const LinearisedModel& m : candidates) largest_k = std::max(largest_k, m.k);
   if (n - largest_k - 1 <= 0)
-    throw std::invalid_argument("detectability: " + std::to_string(n) + " measured values are too few for models with " +
-                                std::to_string(largest_k) + " parameters");
+    throw std::invalid_argument("detectability: " + std::to_string(n) + " measured values are too few for models " +
+                                "with " + std::to_string(largest_k) + " parameters");
   d.lambda = base_model.residual.squaredNorm();
   const bool hidden_tried = std::find(applicable.begin(), applicable.end(), hidden_term) != applicable.end();
   if (hidden_term != Term::kCount && !hidden_tried) {
