@@ -142,6 +142,35 @@ TEST(DiagnosisInputs, ConcealErrors) {
   for (const TermInfo& t : termLibrary()) EXPECT_NE(list.out.find(t.name), std::string::npos) << t.name;
 }
 
+// tread_wear_conceal --information writes the case's detectability reference into the answer file: the oracle's
+// verdict shares (a distribution over the draws) with expected_right the hidden term's share, the F-test power,
+// and the reference standard errors; it needs noise to measure against.
+TEST(DiagnosisInputs, ConcealWritesTheDetectabilityReference) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(testing::TempDir()) / "tread_wear_conceal_information";
+  fs::create_directories(dir);
+  const std::string runs = (dir / "runs.csv").string(), answer_path = (dir / "answer.json").string();
+  const CliResult r = concealCli({"--params", kParams, "--effect", "sensor_offset", "--magnitude", "2", "--design",
+                                  "small", "--seed", "3", "--runs", runs, "--answer", answer_path, "--information"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("detectability reference: lambda "), std::string::npos) << r.out;
+  std::ifstream f(answer_path);
+  const nlohmann::json answer = nlohmann::json::parse(f);
+  const nlohmann::json& d = answer.at("detectability");
+  double total = 0.0;
+  for (const auto& [verdict, share] : d.at("verdicts").items()) total += share.get<double>();
+  EXPECT_NEAR(total, 1.0, 1e-12);
+  EXPECT_DOUBLE_EQ(d.at("expected_right").get<double>(), d.at("verdicts").at("sensor_offset").get<double>());
+  EXPECT_GT(d.at("power").get<double>(), 0.0);
+  EXPECT_LE(d.at("power").get<double>(), 1.0);
+  EXPECT_GT(d.at("parameters").at("side_force_offset_n").at("std_error").get<double>(), 0.0);
+  EXPECT_NEAR(d.at("parameters").at("side_force_offset_n").at("value").get<double>(), 2.0, 1e-6);
+  const CliResult no_noise = concealCli({"--params", kParams, "--effect", "sensor_offset", "--runs", runs, "--answer",
+                                         answer_path, "--force-noise", "0", "--information"});
+  EXPECT_EQ(no_noise.code, 2);
+  EXPECT_NE(no_noise.err.find("--information needs"), std::string::npos) << no_noise.err;
+}
+
 // The success-rate table counts each wear-noise level on its own: totals per level, controls apart.
 // The two readings of "parameter within 25%": of the effect (gain 1.05 -> 1.07 is 40% of the 0.05 effect off) and
 // of the value (2% of 1.05); a wrong explanation meets neither, and improved is needed for "all three".

@@ -27,6 +27,7 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
 
 /// tread_wear_conceal --params FILE --effect NAME|none --runs OUT.csv --answer OUT.json [--magnitude X]
 ///     [--design table2|small] [--wear-noise RSD] [--force-noise N] [--seed N] [--orientation literal|flipped]
+///     [--information]   (also the case's detectability reference, detectability.h, on stdout and in the answer)
 /// tread_wear_conceal --list   prints the library (name, parameters, default magnitude, statement).
 int runConcealCli(int argc, const char* const argv[], std::ostream& out, std::ostream& err);
 
