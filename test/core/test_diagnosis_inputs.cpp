@@ -285,6 +285,15 @@ TEST(DiagnosisHarness, TableShowsTheDetectabilityReference) {
                         "reference_top_wrong,reference_top_wrong_share,"),
             std::string::npos);
   EXPECT_NE(line.find(",15,0.7,0.9,0.8,sensor_offset,0.07,"), std::string::npos) << line;
+  // A case whose reference failed still counts for the measured rates and is named in the summary.
+  HarnessOutcome failed = outcome("sensor_gain", true, 0.0, std::nan(""));
+  failed.information = false;
+  failed.reference_error = "the base model cannot be fitted to the truth";
+  const std::string with_failure = harnessTable({outcome("sensor_gain", true, 0.9, 0.8), failed});
+  EXPECT_NE(with_failure.find("| sensor_gain | small | 5% | 2 | 100% (2/2) | 90.0% |"), std::string::npos)
+      << with_failure;
+  EXPECT_NE(with_failure.find("; 1 case(s) without a reference, see the progress log."), std::string::npos)
+      << with_failure;
   // Without references the table has no such column.
   HarnessOutcome plain = outcome("sensor_gain", true, 0.9, 0.8);
   plain.information = false;

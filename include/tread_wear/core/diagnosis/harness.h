@@ -53,6 +53,7 @@ struct HarnessOutcome {
   bool information = false;  ///< the reference below was computed
   Detectability reference;   ///< detectability of the hidden term on this case's noise-free recordings
   double reference_parameter_ok = std::numeric_limits<double>::quiet_NaN();  ///< probability, see above [-]
+  std::string reference_error;  ///< why the reference could not be computed (the verdict still counts)
   double seconds = 0.0;
   std::string error;  ///< non-empty when the case failed to run
 };
