@@ -9,7 +9,6 @@
 #include "tread_wear/core/command_line.h"
 #include "tread_wear/core/csv.h"
 #include "tread_wear/core/diagnosis/conceal.h"
-#include "tread_wear/core/diagnosis/detectability.h"
 #include "tread_wear/core/diagnosis/harness.h"
 #include "tread_wear/core/diagnosis/report.h"
 #include "tread_wear/core/params_io.h"
@@ -32,20 +31,6 @@ const char* const kDiagnoseUsage =
     "usage: tread_wear_diagnose --params FILE (--runs FILE.csv | --bag FILE.bag) --report DIR\n"
     "       [--orientation literal|flipped] [--preset fast|standard|fine|reference] [--candidates a,b,...]\n"
     "       [--max-terms N] [--alpha-locate X] [--alpha-select X] [--seed N] [--plot-script PATH | --no-plots]\n";
-
-/// The detectability reference of a generated case for its answer file (NaN power as null).
-nlohmann::json detectabilityJson(const Detectability& d) {
-  nlohmann::json j;
-  j["lambda"] = d.lambda;
-  j["power"] = std::isfinite(d.power) ? nlohmann::json(d.power) : nlohmann::json();
-  j["expected_right"] = d.expected_right;
-  j["terms_tried"] = d.terms_tried;
-  for (const OracleVerdict& v : d.verdicts) j["verdicts"][v.verdict] = v.probability;
-  for (const ReferenceParameter& p : d.parameters)
-    j["parameters"][p.name] = {
-        {"value", p.value}, {"std_error", std::isfinite(p.std_error) ? nlohmann::json(p.std_error) : nlohmann::json()}};
-  return j;
-}
 
 }  // namespace
 
@@ -193,7 +178,7 @@ int runConcealCli(int argc, const char* const argv[], std::ostream& out, std::os
   try {
     const TireParams params = loadTireParams(a.get("params"));
     const ConcealCase c = concealEffect(params, spec);
-    nlohmann::json answer = nlohmann::json::parse(answerJson(c.answer));
+    nlohmann::json answer = answerJson(c.answer);
     if (information) {
       DetectabilityOptions d;
       d.wear_noise_rsd = spec.wear_noise_rsd;

@@ -169,7 +169,7 @@ ConcealCase concealEffect(const TireParams& base, const ConcealSpec& spec) {
   return out;
 }
 
-std::string answerJson(const ConcealAnswer& a) {
+nlohmann::json answerJson(const ConcealAnswer& a) {
   nlohmann::json j;
   j["effect"] = a.effect;
   j["parameters"] = a.parameters;
@@ -181,7 +181,7 @@ std::string answerJson(const ConcealAnswer& a) {
   j["wear_noise_rsd"] = a.spec.wear_noise_rsd;
   j["side_force_noise_n"] = a.spec.side_force_noise_n;
   j["seed"] = a.spec.seed;
-  return j.dump(2);
+  return j;
 }
 
 }  // namespace diagnosis

@@ -138,6 +138,18 @@ nlohmann::json diagnosisJson(const DiagnosisResult& r, const DiagnosisData& data
   return j;
 }
 
+nlohmann::json detectabilityJson(const Detectability& d) {
+  nlohmann::json j;
+  j["lambda"] = d.lambda;
+  j["power"] = num(d.power);
+  j["expected_right"] = d.expected_right;
+  j["terms_tried"] = d.terms_tried;
+  for (const OracleVerdict& v : d.verdicts) j["verdicts"][v.verdict] = v.probability;
+  for (const ReferenceParameter& p : d.parameters)
+    j["parameters"][p.name] = {{"value", p.value}, {"std_error", num(p.std_error)}};
+  return j;
+}
+
 std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& data, const std::string& source,
                               const std::vector<std::string>& plots) {
   std::ostringstream m;

@@ -22,6 +22,8 @@
 #include <map>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "tread_wear/core/diagnosis/extensions.h"
 #include "tread_wear/core/run_table.h"
 
@@ -60,8 +62,8 @@ struct ConcealCase {
 double defaultMagnitude(Term term);
 /// Generates one case. @throw std::invalid_argument for an invalid spec or an unknown effect.
 ConcealCase concealEffect(const TireParams& base, const ConcealSpec& spec);
-/// The answer as JSON text.
-std::string answerJson(const ConcealAnswer& answer);
+/// The answer as JSON.
+nlohmann::json answerJson(const ConcealAnswer& answer);
 
 }  // namespace diagnosis
 }  // namespace tread_wear

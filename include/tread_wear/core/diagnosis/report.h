@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tread_wear/core/diagnosis/detectability.h"
 #include "tread_wear/core/diagnosis/diagnosis.h"
 
 namespace tread_wear {
@@ -18,6 +19,9 @@ nlohmann::json diagnosisJson(const DiagnosisResult& result, const DiagnosisData&
 /// The human-readable report (Markdown). `plots` lists PNG file names to embed (may be empty).
 std::string diagnosisMarkdown(const DiagnosisResult& result, const DiagnosisData& data, const std::string& source,
                               const std::vector<std::string>& plots);
+/// A detectability reference (detectability.h) as JSON: lambda, power, expected_right, terms_tried, verdicts
+/// (share per verdict) and parameters (value, std_error); NaN as null.
+nlohmann::json detectabilityJson(const Detectability& reference);
 /// Per-run residuals before/after and the covariates, as CSV text.
 std::string residualsCsv(const DiagnosisResult& result, const DiagnosisData& data);
 
