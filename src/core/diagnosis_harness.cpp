@@ -266,10 +266,8 @@ std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
   };
   const bool information =
       std::any_of(outcomes.begin(), outcomes.end(), [](const HarnessOutcome& o) { return o.information; });
-  auto referenceColumn = [&](const Tally& t) { return information ? " " + t.expected() + " |" : std::string(); };
-  auto parameterReferenceColumn = [&](const Tally& t) {
-    return information ? " " + t.expectedParameter() + " |" : std::string();
-  };
+  // A reference cell (or nothing, without references).
+  auto referenceCell = [&](const std::string& value) { return information ? " " + value + " |" : std::string(); };
   const std::string reference_header = information ? " expected right (detectability reference) |" : "";
   const std::string parameter_reference_header = information ? " expected parameter within 25% (reference) |" : "";
   const std::string reference_rule = information ? "---|" : "";
@@ -294,8 +292,8 @@ std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
     for (const auto& [key, t] : rows) {
       if (std::get<0>(key) != e) continue;
       s << "| " << e << " | " << std::get<1>(key) << " | " << std::get<2>(key) * 100 << "% | " << t.n + t.errors
-        << " | " << pct(t.right, t.n) << " |" << referenceColumn(t) << " " << pct(t.pok, t.pscored) << " |"
-        << parameterReferenceColumn(t) << " " << pct(t.iok, t.iscored) << " |"
+        << " | " << pct(t.right, t.n) << " |" << referenceCell(t.expected()) << " " << pct(t.pok, t.pscored) << " |"
+        << referenceCell(t.expectedParameter()) << " " << pct(t.iok, t.iscored) << " |"
         << (t.errors ? " " + std::to_string(t.errors) + " failed" : "") << "\n";
     }
   s << "\nPer effect (all magnitudes):\n\n| hidden effect | wear RSD | cases | right explanation (`none` for "
@@ -307,8 +305,9 @@ std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
     for (const auto& [key, t] : per_effect) {
       if (key.first != e) continue;
       s << "| " << e << " | " << key.second * 100 << "% | " << t.n + t.errors << " | " << pct(t.right, t.n) << " |"
-        << referenceColumn(t) << " " << pct(t.pok, t.pscored) << " |" << parameterReferenceColumn(t) << " "
-        << pct(t.pcovered, t.pestimated) << " | " << pct(t.iok, t.iscored) << " |\n";
+        << referenceCell(t.expected()) << " " << pct(t.pok, t.pscored) << " |"
+        << referenceCell(t.expectedParameter()) << " " << pct(t.pcovered, t.pestimated) << " | "
+        << pct(t.iok, t.iscored) << " |\n";
     }
   for (const auto& [noise, total] : totals) {
     const auto& [effects, controls] = total;
