@@ -289,6 +289,36 @@ double pValueVsParent(const FittedModel& parent, const FittedModel& f, Term adde
   return nestedFTestPValue(parent.rss, f.rss, std::max(1, f.k - parent.k), dof);
 }
 
+/// The noise a fitted model leaves, as detectability.h measures it: side force in N, wear relative; root mean
+/// squares scaled by sqrt(n / (n - k)) for the k fitted parameters, floored like the weights (side force relative
+/// to its RMS level). Outputs that are not measured get 1 (they have no residuals to weigh).
+void estimateNoise(const DiagnosisData& data, const FittedModel& model, double* side_force_n, double* wear_rsd) {
+  double sum_sq[kNumOutputs] = {0.0, 0.0}, level_sq = 0.0;
+  int n[kNumOutputs] = {0, 0};
+  for (std::size_t i = 0; i < data.runs.size(); ++i)
+    for (int o = 0; o < kNumOutputs; ++o) {
+      const double meas = data.runs[i].measured[o];
+      if (!std::isfinite(meas)) continue;
+      const double pred = model.prediction.value(static_cast<Output>(o), static_cast<int>(i));
+      const bool force = o == static_cast<int>(Output::kSideForce);
+      const double e = force ? pred - meas : pred / meas - 1.0;
+      sum_sq[o] += e * e;
+      if (force) level_sq += meas * meas;
+      ++n[o];
+    }
+  const int total = n[0] + n[1];
+  const double dof = total > model.k ? static_cast<double>(total) / (total - model.k) : 1.0;
+  double* out[kNumOutputs] = {side_force_n, wear_rsd};
+  for (int o = 0; o < kNumOutputs; ++o) {
+    if (n[o] == 0) {
+      *out[o] = 1.0;
+      continue;
+    }
+    const double level = o == static_cast<int>(Output::kSideForce) ? std::sqrt(level_sq / n[o]) : 1.0;
+    *out[o] = std::max(std::sqrt(sum_sq[o] / n[o] * dof), kNoiseFloor[o] * level);
+  }
+}
+
 }  // namespace
 
 DiagnosisOptions::DiagnosisOptions() {
@@ -316,6 +346,8 @@ bool DiagnosisOptions::validate(std::string* error) const {
   if (max_terms < 0) return fail("max_terms = " + std::to_string(max_terms) + " must be >= 0");
   if (max_cv_candidates < 1) return fail("max_cv_candidates = " + std::to_string(max_cv_candidates) + " must be >= 1");
   if (permutations < 99) return fail("permutations = " + std::to_string(permutations) + " must be >= 99");
+  if (!(detection_power >= 0.0 && detection_power < 1.0))
+    return fail("detection_power = " + format(detection_power) + " must be in (0, 1), or 0 for none");
   std::string e;
   if (!solver.validate(&e)) return fail(e);
   return true;
@@ -468,6 +500,21 @@ DiagnosisResult diagnose(const TireParams& base, const DiagnosisData& data, cons
     result.explanation = "none";
   }
   result.mismatch_found = result.explanation != "none";
+
+  // 6. Detection limits at the noise the final model leaves.
+  estimateNoise(data, current, &result.side_force_noise_n, &result.wear_noise_rsd);
+  if (options.detection_power > 0.0) {
+    DetectabilityOptions d;
+    d.side_force_noise_n = result.side_force_noise_n;
+    d.wear_noise_rsd = result.wear_noise_rsd;
+    d.alpha_select = options.alpha_select;
+    d.candidates = pool;
+    d.model = options.model;
+    d.solver = options.solver;
+    result.detection_power = options.detection_power;
+    result.detection_limits = detectionLimits(base, data, fittedValue(result.base, "w3_scale"),
+                                              fittedValue(result.base, "mu_scale"), options.detection_power, d);
+  }
   return result;
 }
 

@@ -30,7 +30,8 @@ std::string modelOptions(const CommandLine& a, ExtendedModelOptions* m) {
 const char* const kDiagnoseUsage =
     "usage: tread_wear_diagnose --params FILE (--runs FILE.csv | --bag FILE.bag) --report DIR\n"
     "       [--orientation literal|flipped] [--preset fast|standard|fine|reference] [--candidates a,b,...]\n"
-    "       [--max-terms N] [--alpha-locate X] [--alpha-select X] [--seed N] [--plot-script PATH | --no-plots]\n";
+    "       [--max-terms N] [--alpha-locate X] [--alpha-select X] [--detection-power X] [--seed N]\n"
+    "       [--plot-script PATH | --no-plots]\n";
 
 }  // namespace
 
@@ -40,7 +41,7 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
   std::string parse_error;
   const bool parsed = a.parse(argc, argv,
                {"params", "runs", "bag", "report", "orientation", "preset", "candidates", "max-terms",
-                "alpha-locate", "alpha-select", "seed", "plot-script"},
+                "alpha-locate", "alpha-select", "detection-power", "seed", "plot-script"},
                {"no-plots"}, &parse_error);
   auto usage = [&](const std::string& msg) { return usageError(err, "tread_wear_diagnose", msg, kDiagnoseUsage); };
   if (a.help()) {
@@ -62,7 +63,8 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
   }
   int seed = static_cast<int>(opt.seed);
   if (!a.integer("max-terms", &opt.max_terms, &e) || !a.number("alpha-locate", &opt.alpha_locate, &e) ||
-      !a.number("alpha-select", &opt.alpha_select, &e) || !a.integer("seed", &seed, &e))
+      !a.number("alpha-select", &opt.alpha_select, &e) || !a.number("detection-power", &opt.detection_power, &e) ||
+      !a.integer("seed", &seed, &e))
     return usage(e);
   if (opt.max_terms < 0 || opt.max_terms > 4) return usage("--max-terms must be an integer in 0..4");
   if (seed < 0) return usage("--seed must be a non-negative integer");

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <random>
 #include <stdexcept>
@@ -65,11 +66,8 @@ class Linearisation {
 
   int measured() const { return static_cast<int>(rows_.size()); }
 
-  LinearisedModel fit(const std::vector<Term>& terms) const {
-    LinearisedModel m;
-    m.terms = terms;
-    m.k = parameterCount(terms);
-    const ExtendedModel model(base_, options_.model, terms, truth_);
+  /// The model's least-squares fit to the truth in noise units (the best of its starts); unusable if none converged.
+  LeastSquaresSummary bestFit(const ExtendedModel& model) const {
     LeastSquaresProblem problem;
     problem.num_records = static_cast<int>(truth_.runs.size());
     problem.residuals_per_record = kNumOutputs;
@@ -86,6 +84,22 @@ class Linearisation {
       LeastSquaresSummary s = solveLeastSquares(problem, options_.solver);
       if (s.usable && (!best.usable || s.final_cost < best.final_cost)) best = std::move(s);
     }
+    return best;
+  }
+
+  /// lambda of Detectability: the base model's smallest residual sum of squares on the truth, in noise units.
+  double baseLambda() const {
+    const LeastSquaresSummary best = bestFit(ExtendedModel(base_, options_.model, {}, truth_));
+    if (!best.usable) throw std::invalid_argument("detectability: the base model cannot be fitted to the truth");
+    return 2.0 * best.final_cost;
+  }
+
+  LinearisedModel fit(const std::vector<Term>& terms) const {
+    LinearisedModel m;
+    m.terms = terms;
+    m.k = parameterCount(terms);
+    const ExtendedModel model(base_, options_.model, terms, truth_);
+    const LeastSquaresSummary best = bestFit(model);
     if (!best.usable) return m;
     const std::vector<double> values = best.values();
     Eigen::VectorXd r0;
@@ -281,6 +295,146 @@ Detectability detectability(const TireParams& base, const DiagnosisData& truth, 
   const auto right = counts.find(hidden);
   d.expected_right = right == counts.end() ? 0.0 : static_cast<double>(right->second) / options.draws;
   return d;
+}
+
+namespace {
+
+/// Bisection steps of a detection limit: the bracket [d_min, d_max] spans up to 6 decades, so 12 halvings in ln d
+/// leave it within a factor of 1.01.
+constexpr int kLimitBisections = 12;
+/// Smallest effect searched, relative to the distance from the neutral value to the bound [-].
+constexpr double kSmallestRelativeEffect = 1e-6;
+
+/// The first-step F test's power against a truth of the base model plus one term at given parameter values.
+class TermPower {
+ public:
+  TermPower(const TireParams& base, const DiagnosisData& data, double w3_scale, double mu_scale, Term term,
+            const DetectabilityOptions& options, int terms_tried)
+      : base_(base), data_(data), w3_scale_(w3_scale), mu_scale_(mu_scale), term_(term), options_(options) {
+    const int k_term = parameterCount({term}) - parameterCount({});
+    int n = 0;
+    for (const DiagnosisRun& r : data.runs)
+      for (int o = 0; o < kNumOutputs; ++o) n += std::isfinite(r.measured[o]) ? 1 : 0;
+    df1_ = k_term;
+    df2_ = n - parameterCount({term});
+    if (df2_ <= 0)
+      throw std::invalid_argument("detection limits: " + std::to_string(n) + " measured values are too few");
+    const double level = options.alpha_select / std::max(1, terms_tried);
+    level_ = neutralOnBound(termInfo(term)) ? 2.0 * level : level;
+  }
+
+  /// Power with the term's parameters at `term_values` and the base orientation (or, for the orientation switch,
+  /// the other one). NaN when the model cannot be evaluated there.
+  double operator()(const std::vector<double>& term_values) const {
+    ExtendedModelOptions model = options_.model;
+    std::vector<Term> terms{term_};
+    if (term_ == Term::kTurnSlipOrientation) terms.clear();
+    if (term_ == Term::kTurnSlipOrientation)
+      model.orientation = model.orientation == TurnSlipOrientation::kLiteral ? TurnSlipOrientation::kFlipped
+                                                                             : TurnSlipOrientation::kLiteral;
+    const ExtendedModel truth_model(base_, model, terms, data_);
+    std::vector<double> values{w3_scale_, mu_scale_};
+    values.insert(values.end(), term_values.begin(), term_values.end());
+    Prediction pred;
+    if (!truth_model.predict(values, &pred)) return std::numeric_limits<double>::quiet_NaN();
+    DiagnosisData truth = data_;
+    for (std::size_t i = 0; i < truth.runs.size(); ++i)
+      for (int o = 0; o < kNumOutputs; ++o)
+        if (std::isfinite(truth.runs[i].measured[o])) truth.runs[i].measured[o] = pred.value(static_cast<Output>(o), i);
+    const double lambda = Linearisation(base_, truth, options_).baseLambda();
+    return fTestPower(lambda, df1_, df2_, level_);
+  }
+
+ private:
+  const TireParams& base_;
+  const DiagnosisData& data_;
+  double w3_scale_, mu_scale_;
+  Term term_;
+  const DetectabilityOptions& options_;
+  double df1_ = 1.0, df2_ = 1.0, level_ = 0.01;
+};
+
+}  // namespace
+
+std::vector<DetectionLimit> detectionLimits(const TireParams& base, const DiagnosisData& data, double w3_scale,
+                                            double mu_scale, double power, const DetectabilityOptions& options) {
+  std::string error;
+  if (!options.validate(&error)) throw std::invalid_argument(error);
+  if (!(power > 0.0 && power < 1.0))
+    throw std::invalid_argument("detection limits: power = " + std::to_string(power) + " must be in (0, 1)");
+  if (!(w3_scale > 0.0) || !(mu_scale > 0.0) || !std::isfinite(w3_scale) || !std::isfinite(mu_scale))
+    throw std::invalid_argument("detection limits: the levels w3_scale = " + std::to_string(w3_scale) +
+                                " and mu_scale = " + std::to_string(mu_scale) + " must be finite and > 0");
+  std::vector<Term> applicable;
+  std::vector<DetectionLimit> limits;
+  for (const TermInfo& info : termLibrary()) {
+    const bool wanted = options.candidates.empty() || std::find(options.candidates.begin(), options.candidates.end(),
+                                                                info.term) != options.candidates.end();
+    if (!wanted) continue;
+    DetectionLimit limit;
+    limit.term = info.name;
+    if (termApplicable(info.term, data, &limit.note)) applicable.push_back(info.term);
+    else limit.note = "not applicable: " + limit.note;
+    limits.push_back(limit);
+  }
+  for (DetectionLimit& limit : limits) {
+    Term term;
+    parseTerm(limit.term, &term);
+    if (std::find(applicable.begin(), applicable.end(), term) == applicable.end()) continue;
+    const TermPower power_at(base, data, w3_scale, mu_scale, term, options, static_cast<int>(applicable.size()));
+    const TermInfo& info = termInfo(term);
+    if (info.primary < 0) {
+      limit.switch_power = power_at({});
+      continue;
+    }
+    // The term's parameters at their start values, with thermal_wear's T0 at the coldest run.
+    std::vector<double> values;
+    for (const TermParameterSpec& p : info.parameters) values.push_back(p.initial);
+    const TermParameterSpec& size = info.parameters[info.primary];
+    limit.parameter = size.name;
+    limit.neutral = size.neutral;
+    if (term == Term::kPressureFriction) limit.neutral = base.friction.q;
+    if (term == Term::kThermalWear) {
+      double coldest = std::numeric_limits<double>::infinity();
+      for (const DiagnosisRun& r : data.runs) coldest = std::min(coldest, r.tread_temperature_c);
+      values[0] = coldest;
+    }
+    // An effect of size d > 0 on side s: the parameter neutral + s d (sigma_T = 1 / d: the effect grows as
+    // sigma_T falls).
+    const bool reciprocal = std::isnan(limit.neutral);
+    std::vector<std::string> notes;
+    for (const int side : {-1, 1}) {
+      if (reciprocal && side > 0) continue;
+      const double bound = side < 0 ? size.lower : size.upper;
+      double d_max = reciprocal ? 1.0 / size.lower : side * (bound - limit.neutral);
+      if (!(d_max > 0.0)) continue;  // the neutral value is this bound: the effect goes one way only
+      const double d_min = reciprocal ? 1.0 / size.upper : kSmallestRelativeEffect * d_max;
+      auto power_of = [&](double d) {
+        values[info.primary] = reciprocal ? 1.0 / d : limit.neutral + side * d;
+        return power_at(values);
+      };
+      // The model may not evaluate out to the bound (e.g. a large load std reaches zero load): shrink to where it does.
+      double p_max = power_of(d_max);
+      for (int i = 0; i < 20 && std::isnan(p_max) && d_max > 2.0 * d_min; ++i) p_max = power_of(d_max *= 0.5);
+      const std::string where = side < 0 ? "below" : "above";
+      if (!(p_max >= power)) {
+        char text[160];
+        std::snprintf(text, sizeof(text), "%s: power %.2f at most (at %s = %.4g, the farthest the model evaluates)",
+                      where.c_str(), std::isnan(p_max) ? 0.0 : p_max, size.name.c_str(), values[info.primary]);
+        notes.push_back(text);
+        continue;
+      }
+      double lo = d_min, hi = d_max;
+      for (int i = 0; i < kLimitBisections; ++i) {
+        const double mid = std::sqrt(lo * hi);
+        const double p = power_of(mid);
+        (p >= power ? hi : lo) = mid;
+      }
+      (side < 0 ? limit.below : limit.above) = reciprocal ? 1.0 / hi : limit.neutral + side * hi;
+    }
+    for (std::size_t i = 0; i < notes.size(); ++i) limit.note += (i ? "; " : "") + notes[i];
+  }
+  return limits;
 }
 
 }  // namespace diagnosis

@@ -179,6 +179,7 @@ std::vector<HarnessOutcome> runHarness(const TireParams& base, const HarnessOpti
         const DiagnosisData data = buildDiagnosisData(cc.table);
         DiagnosisOptions dopt = options.diagnosis;
         dopt.seed = cases[i].spec.seed;
+        dopt.detection_power = 0.0;  // the harness scores verdicts; the reference below is its power calculation
         const DiagnosisResult r = diagnose(base, data, dopt);
         o = scoreCase(cases[i], cc.answer, r);
         if (options.information && cases[i].spec.wear_noise_rsd > 0.0 && cases[i].spec.side_force_noise_n > 0.0) {

@@ -118,6 +118,14 @@ nlohmann::json diagnosisJson(const DiagnosisResult& r, const DiagnosisData& data
   }
   j["candidates"] = cands;
   j["noise_scale"] = perOutput(r.noise_scale);
+  j["noise_left"] = {{"side_force_n", r.side_force_noise_n}, {"wear_rsd", r.wear_noise_rsd}};
+  if (!r.detection_limits.empty()) {
+    nlohmann::json limits = nlohmann::json::object();
+    for (const DetectionLimit& l : r.detection_limits)
+      limits[l.term] = {{"parameter", l.parameter}, {"no_effect_value", num(l.neutral)}, {"below", num(l.below)},
+                        {"above", num(l.above)}, {"switch_power", num(l.switch_power)}, {"note", l.note}};
+    j["detection_limits"] = {{"power", r.detection_power}, {"terms", limits}};
+  }
   j["repeat_spread"] = perOutput(r.pure_error);
   j["skipped_terms"] = r.skipped_terms;
   j["data_warnings"] = data.warnings;
@@ -208,6 +216,23 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
   }
   m << "\nSelection:\n";
   for (const std::string& l : r.log) m << "- " << l << "\n";
+  if (!r.detection_limits.empty()) {
+    m << "\n## What these recordings could have shown\n\n";
+    m << "The smallest effect of each term that the first selection step would find with probability "
+      << g(r.detection_power, 2) << ", added to the calibrated base model, at the noise the final model leaves ("
+      << g(r.side_force_noise_n, 3) << " N side force, " << pct(r.wear_noise_rsd) << " wear). Effects beyond these "
+      << "values would have been found that often; smaller ones can hide in these recordings"
+      << (r.explanation == "none" ? ", so `none` rules out only the larger ones" : "") << ".\n\n";
+    m << "| term | parameter | no effect at | detectable below | detectable above | note |\n|---|---|---|---|---|---|\n";
+    for (const DetectionLimit& l : r.detection_limits) {
+      m << "| " << l.term << " | " << l.parameter << " | "
+        << (l.parameter == "sigma_t_c" ? std::string("infinity") : g(l.neutral, 4)) << " | " << g(l.below, 3) << " | "
+        << g(l.above, 3) << " | " << l.note;
+      if (std::isfinite(l.switch_power)) m << "power of the switch " << g(l.switch_power, 2);
+      m << " |\n";
+    }
+    m << "\nthermal_wear: sigma_T with T0 at the coldest run; load_fluctuation: multiples of the recorded load std.\n";
+  }
   m << "\n## Parameters of the selected model\n\n| parameter | value | std error | at bound |\n|---|---|---|---|\n";
   for (const ParameterEstimate& p : r.final_model.summary.parameters)
     m << "| " << p.name << " | " << g(p.value, 5) << " | " << g(p.std_error, 3) << " | " << (p.atBound() ? "yes" : "")

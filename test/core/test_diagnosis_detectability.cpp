@@ -6,6 +6,9 @@
 
 #include <cmath>
 #include <random>
+#include <stdexcept>
+
+#include <Eigen/Dense>
 
 #include "tread_wear/core/diagnosis/conceal.h"
 #include "tread_wear/core/diagnosis/detectability.h"
@@ -236,4 +239,159 @@ TEST(DiagnosisDetectability, InvalidOptionsAndTermsNameTheProblem) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("too few"), std::string::npos) << e.what();
   }
+}
+
+namespace {
+
+/// The noncentrality at which the first-step F test (1 numerator degree of freedom) reaches `power`, by bisection.
+double lambdaForPower(double power, double df2, double level) {
+  double lo = 0.0, hi = 200.0;
+  for (int i = 0; i < 100; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (fTestPower(mid, 1.0, df2, level) < power ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+int applicableTerms(const DiagnosisData& data) {
+  int m = 0;
+  for (const TermInfo& info : termLibrary()) m += termApplicable(info.term, data, nullptr) ? 1 : 0;
+  return m;
+}
+
+const DetectionLimit& limitOf(const std::vector<DetectionLimit>& limits, const std::string& term) {
+  for (const DetectionLimit& l : limits)
+    if (l.term == term) return l;
+  throw std::runtime_error("no limit for " + term);
+}
+
+}  // namespace
+
+// An offset adds the same force to every run, so for a small offset the base model's best fit to base + offset is
+// linear in it: lambda(o) = o^2 |(I - P_J) e|^2, e the offset's residual column and J the base levels' Jacobian
+// (noise units). The limit is then sqrt(lambda* / |(I - P_J) e|^2) with lambda* where the F test reaches the power.
+// A quiet transducer (0.1 N) keeps the limit small (0.3 N), where the mu_scale shift that absorbs part of it is
+// linear to 0.3%; at 1 N the two sides differ by +-3% from the closed form, the second-order term.
+TEST(DiagnosisDetectionLimits, OffsetLimitMatchesTheLinearClosedForm) {
+  const TireParams base;
+  const ConcealCase c = concealEffect(base, smallDesignCase("none", std::nan("")));
+  const DiagnosisData data = buildDiagnosisData(c.noise_free);
+  const double w3 = c.answer.parameters.at("w3_scale"), mu = c.answer.parameters.at("mu_scale");
+  DetectabilityOptions o;
+  o.side_force_noise_n = 0.1;
+  o.wear_noise_rsd = 0.05;
+
+  // Jacobian of the base model's residuals (noise units) in w3_scale and mu_scale, by central differences.
+  const ExtendedModel model(base, o.model, {}, data);
+  const int runs = static_cast<int>(data.runs.size()), n = 2 * runs;
+  Prediction p0;
+  ASSERT_TRUE(model.predict({w3, mu}, &p0));
+  Eigen::MatrixXd jacobian(n, 2);
+  for (int j = 0; j < 2; ++j) {
+    std::vector<double> up{w3, mu}, down{w3, mu};
+    const double h = 1e-5 * up[j];
+    up[j] += h;
+    down[j] -= h;
+    Prediction pu, pd;
+    ASSERT_TRUE(model.predict(up, &pu) && model.predict(down, &pd));
+    for (int i = 0; i < runs; ++i) {
+      jacobian(2 * i, j) = (pu.side_force_n[i] - pd.side_force_n[i]) / (2 * h) / o.side_force_noise_n;
+      jacobian(2 * i + 1, j) = (pu.wear_kg_per_m[i] - pd.wear_kg_per_m[i]) / (2 * h) / p0.wear_kg_per_m[i] /
+                               o.wear_noise_rsd;
+    }
+  }
+  Eigen::VectorXd offset_column = Eigen::VectorXd::Zero(n);
+  for (int i = 0; i < runs; ++i) offset_column(2 * i) = 1.0 / o.side_force_noise_n;
+  const Eigen::MatrixXd q = Eigen::HouseholderQR<Eigen::MatrixXd>(jacobian).householderQ() *
+                            Eigen::MatrixXd::Identity(n, 2);
+  const double unabsorbed = offset_column.squaredNorm() - (q.transpose() * offset_column).squaredNorm();
+  const double level = o.alpha_select / applicableTerms(data);
+  const double expected = std::sqrt(lambdaForPower(0.8, n - 3, level) / unabsorbed);
+
+  const std::vector<DetectionLimit> limits = detectionLimits(base, data, w3, mu, 0.8, o);
+  const DetectionLimit& offset = limitOf(limits, "sensor_offset");
+  EXPECT_EQ(offset.parameter, "side_force_offset_n");
+  // The search stops within a factor 1.01 above the limit.
+  EXPECT_NEAR(offset.above / expected, 1.0, 0.015) << "closed form " << expected << " N";
+  EXPECT_NEAR(-offset.below / expected, 1.0, 0.015) << "closed form " << expected << " N";
+}
+
+// The generator's recordings of a term at its limit have the wanted power under the reference (detectability):
+// the search and the truth it builds agree with the concealed-effect generator, for a two-sided term and for a
+// one-sided one (the boundary test's doubled level).
+TEST(DiagnosisDetectionLimits, RecordingsAtTheLimitHaveTheWantedPower) {
+  const TireParams base;
+  const ConcealCase c = concealEffect(base, smallDesignCase("none", std::nan("")));
+  const DiagnosisData data = buildDiagnosisData(c.noise_free);
+  DetectabilityOptions o;
+  o.draws = 100;
+  const std::vector<DetectionLimit> limits =
+      detectionLimits(base, data, c.answer.parameters.at("w3_scale"), c.answer.parameters.at("mu_scale"), 0.8, o);
+  for (const char* term : {"sensor_gain", "lateral_compliance", "surface_polishing"}) {
+    const DetectionLimit& limit = limitOf(limits, term);
+    ASSERT_TRUE(std::isfinite(limit.above)) << term << ": " << limit.note;
+    ConcealSpec spec = smallDesignCase(term, limit.above);
+    spec.wear_noise_rsd = o.wear_noise_rsd;
+    spec.side_force_noise_n = o.side_force_noise_n;
+    const Detectability d = detectabilityOf(spec, o);
+    // The search stops within a factor 1.01 above the limit, where the power is at most about 0.02 higher.
+    EXPECT_GE(d.power, 0.8 - 1e-3) << term << " at " << limit.above;
+    EXPECT_LE(d.power, 0.83) << term << " at " << limit.above;
+  }
+  const DetectionLimit& gain = limitOf(limits, "sensor_gain");
+  EXPECT_LT(gain.below, 1.0);
+  EXPECT_GT(gain.above, 1.0);
+}
+
+TEST(DiagnosisDetectionLimits, OneSidedTermsSwitchesAndMissingCovariates) {
+  const TireParams base;
+  const ConcealCase c = concealEffect(base, smallDesignCase("none", std::nan("")));
+  DiagnosisData data = buildDiagnosisData(c.noise_free);
+  data.has_temperature = false;
+  DetectabilityOptions o;
+  const std::vector<DetectionLimit> limits = detectionLimits(base, data, 1.0, 1.0, 0.8, o);
+  ASSERT_EQ(limits.size(), termLibrary().size());
+  for (const char* term : {"surface_polishing", "lateral_compliance", "load_fluctuation"}) {
+    const DetectionLimit& l = limitOf(limits, term);
+    EXPECT_EQ(l.neutral, 0.0) << term;
+    EXPECT_TRUE(std::isnan(l.below)) << term << ": its effect goes one way only";
+  }
+  // The recorded load std (2-6% of the load) is far below what the 18 runs could show even at 6 times its size.
+  EXPECT_TRUE(std::isnan(limitOf(limits, "load_fluctuation").above));
+  EXPECT_NE(limitOf(limits, "load_fluctuation").note.find("above: power"), std::string::npos);
+  const DetectionLimit& orientation = limitOf(limits, "turn_slip_orientation");
+  EXPECT_GT(orientation.switch_power, 0.99) << "the rig's turn slip makes the orientation plain";
+  for (const char* term : {"thermal_wear", "thermal_friction"}) {
+    const DetectionLimit& l = limitOf(limits, term);
+    EXPECT_TRUE(std::isnan(l.below) && std::isnan(l.above)) << term;
+    EXPECT_EQ(l.note.rfind("not applicable: ", 0), 0u) << l.note;
+  }
+  EXPECT_EQ(limitOf(limits, "pressure_friction").neutral, base.friction.q);
+}
+
+TEST(DiagnosisDetectionLimits, BadInputNamesTheProblem) {
+  const TireParams base;
+  const ConcealCase c = concealEffect(base, smallDesignCase("none", std::nan("")));
+  const DiagnosisData data = buildDiagnosisData(c.noise_free);
+  DetectabilityOptions o;
+  o.candidates = {Term::kSensorOffset};
+  for (double power : {0.0, 1.0, std::nan("")}) {
+    try {
+      detectionLimits(base, data, 1.0, 1.0, power, o);
+      FAIL() << "power " << power << " accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("power"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_THROW(detectionLimits(base, data, 0.0, 1.0, 0.8, o), std::invalid_argument);
+  EXPECT_THROW(detectionLimits(base, data, 1.0, std::nan(""), 0.8, o), std::invalid_argument);
+  o.side_force_noise_n = -1.0;
+  EXPECT_THROW(detectionLimits(base, data, 1.0, 1.0, 0.8, o), std::invalid_argument);
+  // Only the candidates asked for.
+  o = DetectabilityOptions{};
+  o.candidates = {Term::kSensorOffset};
+  EXPECT_EQ(detectionLimits(base, data, 1.0, 1.0, 0.8, o).size(), 1u);
+  DiagnosisData two_runs = data;
+  two_runs.runs.resize(1);
+  EXPECT_THROW(detectionLimits(base, two_runs, 1.0, 1.0, 0.8, o), std::invalid_argument);
 }

@@ -106,6 +106,9 @@ TEST(DiagnosisInputs, CliUsageErrors) {
   EXPECT_NE(cand.err.find("'magic'"), std::string::npos) << cand.err;
   EXPECT_EQ(diagnoseCli({"--params", kParams, "--runs", "a.csv", "--report", "r", "--max-terms", "x"}).code, 2);
   EXPECT_EQ(diagnoseCli({"--params", kParams, "--runs", "a.csv", "--report", "r", "--alpha-select", "2"}).code, 2);
+  const CliResult power = diagnoseCli({"--params", kParams, "--runs", "a.csv", "--report", "r", "--detection-power", "1"});
+  EXPECT_EQ(power.code, 2);
+  EXPECT_NE(power.err.find("detection_power = 1"), std::string::npos) << power.err;
   EXPECT_EQ(diagnoseCli({"--params", kParams, "--runs", "a.csv", "--report", "r", "stray"}).code, 2);
 }
 
@@ -358,6 +361,15 @@ TEST(DiagnosisCli, DocumentedExampleWritesTheReport) {
   EXPECT_NEAR(rate["value"].get<double>(), truth, 0.25 * truth);
   EXPECT_GT(rate["std_error"].get<double>(), 0.0);
   EXPECT_LT(j["cv_rmser_after"]["wear"].get<double>(), j["cv_rmser_before"]["wear"].get<double>());
+  // What the recordings could show: the polishing that was found lies beyond its detection limit.
+  EXPECT_NE(report.find("## What these recordings could have shown"), std::string::npos);
+  EXPECT_EQ(j["detection_limits"]["power"], 0.8);
+  const nlohmann::json& limit = j["detection_limits"]["terms"]["surface_polishing"];
+  EXPECT_EQ(limit["parameter"], answer["primary"]);
+  EXPECT_TRUE(limit["below"].is_null()) << "a polishing rate cannot be negative";
+  EXPECT_GT(rate["value"].get<double>(), limit["above"].get<double>());
+  EXPECT_NEAR(j["noise_left"]["wear_rsd"].get<double>(), answer["wear_noise_rsd"].get<double>(), 0.02);
+  EXPECT_NEAR(j["noise_left"]["side_force_n"].get<double>(), answer["side_force_noise_n"].get<double>(), 0.4);
   for (const char* name : {"w3_scale", "mu_scale"}) {
     const nlohmann::json& shift = j["base_parameter_shift"][name];
     EXPECT_NEAR(shift["relative"].get<double>(),

@@ -38,7 +38,7 @@ ConcealSpec smallCase(const std::string& effect, double magnitude, double wear_n
 }
 
 Recovery run(const std::string& effect, double magnitude, double wear_noise_rsd = 0.01, double side_force_noise_n = 0.2,
-             int max_terms = 1) {
+             int max_terms = 1, double detection_power = 0.0) {
   const ConcealSpec spec = smallCase(effect, magnitude, wear_noise_rsd, side_force_noise_n);
   const TireParams base;
   const ConcealCase c = concealEffect(base, spec);
@@ -46,6 +46,7 @@ Recovery run(const std::string& effect, double magnitude, double wear_noise_rsd 
   DiagnosisOptions opt;
   opt.max_terms = max_terms;  // default 1, single terms: enough to check that the hidden one wins
   opt.permutations = 999;
+  opt.detection_power = detection_power;  // off unless asked: the selection is what these tests check
   Recovery r{c.answer, diagnose(base, data, opt), {}};
   r.outcome = scoreCase(HarnessCase{spec, "test"}, c.answer, r.result);
   return r;
@@ -88,6 +89,7 @@ RigNoiseDiagnosis diagnoseRigNoiseCase(const std::string& effect, double magnitu
   d.spec = rigNoiseCase(effect, magnitude, seed);
   d.c = concealEffect(base, d.spec);
   d.options.seed = seed;
+  d.options.detection_power = 0.0;
   d.result = diagnose(base, buildDiagnosisData(d.c.table), d.options);
   return d;
 }
@@ -101,13 +103,24 @@ const FittedModel* findTried(const DiagnosisResult& r, const std::string& label)
 }  // namespace
 
 TEST(DiagnosisRecovery, NoEffectGivesNone) {
-  const Recovery r = run("none", std::nan(""));
+  const Recovery r = run("none", std::nan(""), 0.01, 0.2, 1, 0.8);
   EXPECT_FALSE(r.result.mismatch_found);
   EXPECT_EQ(r.result.explanation, "none");
   EXPECT_TRUE(r.result.final_model.terms.empty());
   // The base fit recovers the hidden level parameters to within the noise (1% wear, 0.2 N side force).
   EXPECT_NEAR(fittedValue(r.result.base, "w3_scale") / r.answer.parameters.at("w3_scale"), 1.0, 0.02);
   EXPECT_NEAR(fittedValue(r.result.base, "mu_scale") / r.answer.parameters.at("mu_scale"), 1.0, 0.01);
+  // What the `none` rules out: a limit for every term of the library, at the noise left (wear RSD 1%: 18 values,
+  // so within about +-35% at 95%).
+  EXPECT_NEAR(r.result.wear_noise_rsd, 0.01, 0.0035);
+  ASSERT_EQ(r.result.detection_limits.size(), termLibrary().size());
+  for (const DetectionLimit& l : r.result.detection_limits) {
+    if (l.term == "turn_slip_orientation") {
+      EXPECT_GT(l.switch_power, 0.8);
+    } else if (l.term != "load_fluctuation") {
+      EXPECT_TRUE(std::isfinite(l.above) || std::isfinite(l.below)) << l.term;
+    }
+  }
 }
 
 // Recordings without noise, e.g. a simulation checked against the same model: the fit reproduces them to

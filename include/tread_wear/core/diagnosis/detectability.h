@@ -25,6 +25,15 @@
 ///  - Parameters: the standard errors of the hidden model's parameters at the truth, (J^T J)^-1 in noise units,
 ///    the precision that a fit with the true noise weights reaches (the diagnosis's HC3 errors estimate the same).
 /// Limits: linearised (small effects); the first selection step only (no pairs).
+///
+/// Detection limits (detectionLimits): the same power calculation on the user's own recordings, for a `none`
+/// verdict to say what it rules out. For each applicable term, its size parameter is moved away from the value at
+/// which the term has no effect (both ways where both are possible) until the first-step F test reaches the
+/// wanted power (0.8 by convention, Cohen 1988) against the calibrated base model, at the noise levels the
+/// diagnosis estimated. The truth is the base model at its fitted levels plus the term; lambda comes from a full
+/// (nonlinear) base fit to it, so large limits are not linearised. Conventions: thermal_wear is searched in sigma_T
+/// with T0 at the coldest run (wear then rises over the observed temperatures); load_fluctuation's limit is the
+/// multiple of the recorded load std; turn_slip_orientation is a switch, so it reports the power of the switch.
 
 #include <cstdint>
 #include <limits>
@@ -83,6 +92,26 @@ struct Detectability {
 /// need.
 Detectability detectability(const TireParams& base, const DiagnosisData& truth, const std::string& hidden,
                             const DetectabilityOptions& options);
+
+/// The smallest effect of one term that the recordings would reveal (detectionLimits).
+struct DetectionLimit {
+  std::string term;        ///< library name
+  std::string parameter;   ///< the size parameter searched ("" for turn_slip_orientation)
+  double neutral = std::numeric_limits<double>::quiet_NaN();  ///< its no-effect value [unit]; NaN for sigma_T (inf)
+  /// Parameter values at which the power reaches the wanted one, below and above the neutral value [unit]; NaN
+  /// when that side is impossible (a bound) or the power is not reached within the parameter's bounds.
+  double below = std::numeric_limits<double>::quiet_NaN();
+  double above = std::numeric_limits<double>::quiet_NaN();
+  double switch_power = std::numeric_limits<double>::quiet_NaN();  ///< turn_slip_orientation only [-]
+  std::string note;        ///< why a side has no limit, or why the term is not applicable
+};
+
+/// Detection limits of every applicable term (and a note for the others) on `data`, whose measured values are
+/// replaced by the base model at `w3_scale`, `mu_scale` plus each term. Uses options' noise levels, alpha_select,
+/// candidates, model and solver. @throw std::invalid_argument for invalid options, power outside (0, 1), or
+/// levels that are not > 0.
+std::vector<DetectionLimit> detectionLimits(const TireParams& base, const DiagnosisData& data, double w3_scale,
+                                            double mu_scale, double power, const DetectabilityOptions& options);
 
 /// Power of an F test with (df1, df2) degrees of freedom at `level` against noncentrality lambda:
 /// P(F'(df1, df2; lambda) > F_crit(level)). 1 for lambda > 1e4 (the computation is then needlessly slow).

@@ -27,6 +27,10 @@
 ///     eligible candidates of an accepting step whose AICc is less than min_aicc_drop above the accepted model's,
 ///     i.e. not substantially worse supported (Burnham and Anderson's Delta AICc < 2): the recordings cannot tell them
 ///     from the explanation (a sensor gain and a sensor offset, where the design has few low-slip runs).
+///  6. Detection limits (detectability.h): for each applicable term, the smallest effect that step 4's first F test
+///     would find with probability detection_power, added to the calibrated base model, at the noise the final
+///     model leaves (side force in N, wear relative; dof-corrected, floored as the weights). They say what a
+///     `none` rules out.
 /// Limits: the F test and AICc assume independent, roughly normal weighted residuals; with few runs (the paper's
 /// nine means) they are indicative only, which the report says.
 
@@ -36,6 +40,7 @@
 #include <vector>
 
 #include "tread_wear/core/diagnosis/data.h"
+#include "tread_wear/core/diagnosis/detectability.h"
 #include "tread_wear/core/diagnosis/extensions.h"
 #include "tread_wear/core/least_squares.h"
 
@@ -54,6 +59,9 @@ struct DiagnosisOptions {
   std::uint64_t seed = 7;          ///< permutation seed
   std::vector<Term> candidates;    ///< terms to try (repeats count once); empty = the whole library
   LeastSquaresOptions solver;      ///< least-squares settings
+  /// Power at which the detection limits (step 6) are set, in (0, 1); 0 = not computed (they cost about as much
+  /// as the selection)
+  double detection_power = 0.8;
 
   DiagnosisOptions();
   bool validate(std::string* error) const;
@@ -123,6 +131,10 @@ struct DiagnosisResult {
   std::string explanation;                        ///< library name, "a+b", "none" or "unexplained"
   std::vector<std::string> unexplained_covariates;
   std::vector<CloseAlternative> close_alternatives;  ///< of every accepting step (step 5 above)
+  double side_force_noise_n = 0.0;                ///< noise the final model leaves: side force [N]
+  double wear_noise_rsd = 0.0;                    ///< and wear, relative [-] (step 6)
+  double detection_power = 0.0;                   ///< power of the detection limits [-]
+  std::vector<DetectionLimit> detection_limits;   ///< step 6; empty when not computed
   std::vector<std::string> log;                   ///< the selection steps in words
 };
 
