@@ -291,7 +291,7 @@ double pValueVsParent(const FittedModel& parent, const FittedModel& f, Term adde
 
 /// The noise a fitted model leaves, as detectability.h measures it: side force in N, wear relative; root mean
 /// squares scaled by sqrt(n / (n - k)) for the k fitted parameters, floored like the weights (side force relative
-/// to its RMS level). Outputs that are not measured get 1 (they have no residuals to weigh).
+/// to its RMS level). NaN for an output that is not measured.
 void estimateNoise(const DiagnosisData& data, const FittedModel& model, double* side_force_n, double* wear_rsd) {
   double sum_sq[kNumOutputs] = {0.0, 0.0}, level_sq = 0.0;
   int n[kNumOutputs] = {0, 0};
@@ -311,7 +311,7 @@ void estimateNoise(const DiagnosisData& data, const FittedModel& model, double* 
   double* out[kNumOutputs] = {side_force_n, wear_rsd};
   for (int o = 0; o < kNumOutputs; ++o) {
     if (n[o] == 0) {
-      *out[o] = 1.0;
+      *out[o] = kNaN;
       continue;
     }
     const double level = o == static_cast<int>(Output::kSideForce) ? std::sqrt(level_sq / n[o]) : 1.0;
@@ -505,8 +505,9 @@ DiagnosisResult diagnose(const TireParams& base, const DiagnosisData& data, cons
   estimateNoise(data, current, &result.side_force_noise_n, &result.wear_noise_rsd);
   if (options.detection_power > 0.0) {
     DetectabilityOptions d;
-    d.side_force_noise_n = result.side_force_noise_n;
-    d.wear_noise_rsd = result.wear_noise_rsd;
+    // An output that is not measured has no residuals to weigh; any positive noise level will do.
+    d.side_force_noise_n = std::isfinite(result.side_force_noise_n) ? result.side_force_noise_n : 1.0;
+    d.wear_noise_rsd = std::isfinite(result.wear_noise_rsd) ? result.wear_noise_rsd : 1.0;
     d.alpha_select = options.alpha_select;
     d.candidates = pool;
     d.model = options.model;

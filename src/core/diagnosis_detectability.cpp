@@ -30,6 +30,14 @@ int parameterCount(const std::vector<Term>& terms) {
   return p;
 }
 
+/// Measured values of the recordings (side force and wear, where recorded).
+int measuredValues(const DiagnosisData& data) {
+  int n = 0;
+  for (const DiagnosisRun& r : data.runs)
+    for (int o = 0; o < kNumOutputs; ++o) n += std::isfinite(r.measured[o]) ? 1 : 0;
+  return n;
+}
+
 /// A model fitted to the noise-free recordings and linearised there (Gauss-Newton), in noise units over the
 /// measured values.
 struct LinearisedModel {
@@ -311,14 +319,8 @@ class TermPower {
   TermPower(const TireParams& base, const DiagnosisData& data, double w3_scale, double mu_scale, Term term,
             const DetectabilityOptions& options, int terms_tried)
       : base_(base), data_(data), w3_scale_(w3_scale), mu_scale_(mu_scale), term_(term), options_(options) {
-    const int k_term = parameterCount({term}) - parameterCount({});
-    int n = 0;
-    for (const DiagnosisRun& r : data.runs)
-      for (int o = 0; o < kNumOutputs; ++o) n += std::isfinite(r.measured[o]) ? 1 : 0;
-    df1_ = k_term;
-    df2_ = n - parameterCount({term});
-    if (df2_ <= 0)
-      throw std::invalid_argument("detection limits: " + std::to_string(n) + " measured values are too few");
+    df1_ = parameterCount({term}) - parameterCount({});
+    df2_ = measuredValues(data) - parameterCount({term});
     const double level = options.alpha_select / std::max(1, terms_tried);
     level_ = neutralOnBound(termInfo(term)) ? 2.0 * level : level;
   }
@@ -354,6 +356,63 @@ class TermPower {
   double df1_ = 1.0, df2_ = 1.0, level_ = 0.01;
 };
 
+/// Detection limits of one applicable term (detectionLimits); fills `limit` (its `term` set).
+void searchLimit(const TireParams& base, const DiagnosisData& data, double w3_scale, double mu_scale, double power,
+                 const DetectabilityOptions& options, int terms_tried, Term term, DetectionLimit* limit_out) {
+  DetectionLimit& limit = *limit_out;
+  const TermPower power_at(base, data, w3_scale, mu_scale, term, options, terms_tried);
+  const TermInfo& info = termInfo(term);
+  if (info.primary < 0) {
+    limit.switch_power = power_at({});
+    return;
+  }
+  // The term's parameters at their start values, with thermal_wear's T0 at the coldest run.
+  std::vector<double> values;
+  for (const TermParameterSpec& p : info.parameters) values.push_back(p.initial);
+  const TermParameterSpec& size = info.parameters[info.primary];
+  limit.parameter = size.name;
+  limit.neutral = size.neutral;
+  if (term == Term::kPressureFriction) limit.neutral = base.friction.q;
+  if (term == Term::kThermalWear) {
+    double coldest = std::numeric_limits<double>::infinity();
+    for (const DiagnosisRun& r : data.runs) coldest = std::min(coldest, r.tread_temperature_c);
+    values[0] = coldest;
+  }
+  // An effect of size d > 0 on side s: the parameter neutral + s d (sigma_T = 1 / d: the effect grows as
+  // sigma_T falls).
+  const bool reciprocal = std::isnan(limit.neutral);
+  std::vector<std::string> notes;
+  for (const int side : {-1, 1}) {
+    if (reciprocal && side > 0) continue;
+    const double bound = side < 0 ? size.lower : size.upper;
+    double d_max = reciprocal ? 1.0 / size.lower : side * (bound - limit.neutral);
+    if (!(d_max > 0.0)) continue;  // the neutral value is this bound: the effect goes one way only
+    const double d_min = reciprocal ? 1.0 / size.upper : kSmallestRelativeEffect * d_max;
+    auto power_of = [&](double d) {
+      values[info.primary] = reciprocal ? 1.0 / d : limit.neutral + side * d;
+      return power_at(values);
+    };
+    // The model may not evaluate out to the bound (e.g. a large load std reaches zero load): shrink to where it does.
+    double p_max = power_of(d_max);
+    for (int i = 0; i < 20 && std::isnan(p_max) && d_max > 2.0 * d_min; ++i) p_max = power_of(d_max *= 0.5);
+    if (!(p_max >= power)) {
+      char text[160];
+      std::snprintf(text, sizeof(text), "%s: power %.2f at most, at %s = %.4g",
+                    side < 0 ? "below" : "above", std::isnan(p_max) ? 0.0 : p_max, size.name.c_str(),
+                    values[info.primary]);
+      notes.push_back(text);
+      continue;
+    }
+    double lo = d_min, hi = d_max;
+    for (int i = 0; i < kLimitBisections; ++i) {
+      const double mid = std::sqrt(lo * hi);
+      (power_of(mid) >= power ? hi : lo) = mid;
+    }
+    (side < 0 ? limit.below : limit.above) = reciprocal ? 1.0 / hi : limit.neutral + side * hi;
+  }
+  for (std::size_t i = 0; i < notes.size(); ++i) limit.note += (i ? "; " : "") + notes[i];
+}
+
 }  // namespace
 
 std::vector<DetectionLimit> detectionLimits(const TireParams& base, const DiagnosisData& data, double w3_scale,
@@ -377,62 +436,21 @@ std::vector<DetectionLimit> detectionLimits(const TireParams& base, const Diagno
     else limit.note = "not applicable: " + limit.note;
     limits.push_back(limit);
   }
+  const int n = measuredValues(data);
   for (DetectionLimit& limit : limits) {
     Term term;
     parseTerm(limit.term, &term);
     if (std::find(applicable.begin(), applicable.end(), term) == applicable.end()) continue;
-    const TermPower power_at(base, data, w3_scale, mu_scale, term, options, static_cast<int>(applicable.size()));
-    const TermInfo& info = termInfo(term);
-    if (info.primary < 0) {
-      limit.switch_power = power_at({});
+    const int k = parameterCount({term});
+    if (n - k <= 0) {
+      limit.note = "too few measured values (" + std::to_string(n) + ") for its " + std::to_string(k) + " parameters";
       continue;
     }
-    // The term's parameters at their start values, with thermal_wear's T0 at the coldest run.
-    std::vector<double> values;
-    for (const TermParameterSpec& p : info.parameters) values.push_back(p.initial);
-    const TermParameterSpec& size = info.parameters[info.primary];
-    limit.parameter = size.name;
-    limit.neutral = size.neutral;
-    if (term == Term::kPressureFriction) limit.neutral = base.friction.q;
-    if (term == Term::kThermalWear) {
-      double coldest = std::numeric_limits<double>::infinity();
-      for (const DiagnosisRun& r : data.runs) coldest = std::min(coldest, r.tread_temperature_c);
-      values[0] = coldest;
+    try {
+      searchLimit(base, data, w3_scale, mu_scale, power, options, static_cast<int>(applicable.size()), term, &limit);
+    } catch (const std::exception& e) {
+      limit.note = std::string("not computed: ") + e.what();  // e.g. the base model does not fit the truth
     }
-    // An effect of size d > 0 on side s: the parameter neutral + s d (sigma_T = 1 / d: the effect grows as
-    // sigma_T falls).
-    const bool reciprocal = std::isnan(limit.neutral);
-    std::vector<std::string> notes;
-    for (const int side : {-1, 1}) {
-      if (reciprocal && side > 0) continue;
-      const double bound = side < 0 ? size.lower : size.upper;
-      double d_max = reciprocal ? 1.0 / size.lower : side * (bound - limit.neutral);
-      if (!(d_max > 0.0)) continue;  // the neutral value is this bound: the effect goes one way only
-      const double d_min = reciprocal ? 1.0 / size.upper : kSmallestRelativeEffect * d_max;
-      auto power_of = [&](double d) {
-        values[info.primary] = reciprocal ? 1.0 / d : limit.neutral + side * d;
-        return power_at(values);
-      };
-      // The model may not evaluate out to the bound (e.g. a large load std reaches zero load): shrink to where it does.
-      double p_max = power_of(d_max);
-      for (int i = 0; i < 20 && std::isnan(p_max) && d_max > 2.0 * d_min; ++i) p_max = power_of(d_max *= 0.5);
-      const std::string where = side < 0 ? "below" : "above";
-      if (!(p_max >= power)) {
-        char text[160];
-        std::snprintf(text, sizeof(text), "%s: power %.2f at most (at %s = %.4g, the farthest the model evaluates)",
-                      where.c_str(), std::isnan(p_max) ? 0.0 : p_max, size.name.c_str(), values[info.primary]);
-        notes.push_back(text);
-        continue;
-      }
-      double lo = d_min, hi = d_max;
-      for (int i = 0; i < kLimitBisections; ++i) {
-        const double mid = std::sqrt(lo * hi);
-        const double p = power_of(mid);
-        (p >= power ? hi : lo) = mid;
-      }
-      (side < 0 ? limit.below : limit.above) = reciprocal ? 1.0 / hi : limit.neutral + side * hi;
-    }
-    for (std::size_t i = 0; i < notes.size(); ++i) limit.note += (i ? "; " : "") + notes[i];
   }
   return limits;
 }

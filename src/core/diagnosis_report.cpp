@@ -118,7 +118,7 @@ nlohmann::json diagnosisJson(const DiagnosisResult& r, const DiagnosisData& data
   }
   j["candidates"] = cands;
   j["noise_scale"] = perOutput(r.noise_scale);
-  j["noise_left"] = {{"side_force_n", r.side_force_noise_n}, {"wear_rsd", r.wear_noise_rsd}};
+  j["noise_left"] = {{"side_force_n", num(r.side_force_noise_n)}, {"wear_rsd", num(r.wear_noise_rsd)}};
   if (!r.detection_limits.empty()) {
     nlohmann::json limits = nlohmann::json::object();
     for (const DetectionLimit& l : r.detection_limits)
@@ -220,7 +220,9 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
     m << "\n## What these recordings could have shown\n\n";
     m << "The smallest effect of each term that the first selection step would find with probability "
       << g(r.detection_power, 2) << ", added to the calibrated base model, at the noise the final model leaves ("
-      << g(r.side_force_noise_n, 3) << " N side force, " << pct(r.wear_noise_rsd) << " wear). Effects beyond these "
+      << (std::isfinite(r.side_force_noise_n) ? g(r.side_force_noise_n, 3) + " N" : std::string("not measured:"))
+      << " side force, " << (std::isfinite(r.wear_noise_rsd) ? pct(r.wear_noise_rsd) : std::string("not measured:"))
+      << " wear). Effects beyond these "
       << "values would have been found that often; smaller ones can hide in these recordings"
       << (r.explanation == "none" ? ", so `none` rules out only the larger ones" : "") << ".\n\n";
     m << "| term | parameter | no effect at | detectable below | detectable above | note |\n|---|---|---|---|---|---|\n";

@@ -131,8 +131,8 @@ struct DiagnosisResult {
   std::string explanation;                        ///< library name, "a+b", "none" or "unexplained"
   std::vector<std::string> unexplained_covariates;
   std::vector<CloseAlternative> close_alternatives;  ///< of every accepting step (step 5 above)
-  double side_force_noise_n = 0.0;                ///< noise the final model leaves: side force [N]
-  double wear_noise_rsd = 0.0;                    ///< and wear, relative [-] (step 6)
+  double side_force_noise_n = 0.0;                ///< noise the final model leaves: side force [N]; NaN if not measured
+  double wear_noise_rsd = 0.0;                    ///< and wear, relative [-] (step 6); NaN if not measured
   double detection_power = 0.0;                   ///< power of the detection limits [-]
   std::vector<DetectionLimit> detection_limits;   ///< step 6; empty when not computed
   std::vector<std::string> log;                   ///< the selection steps in words
