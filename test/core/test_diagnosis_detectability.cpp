@@ -60,6 +60,15 @@ ConcealSpec smallDesignCase(const std::string& effect, double magnitude) {
   return spec;
 }
 
+/// The small design without an effect: its noise-free recordings and true levels (w3_scale, mu_scale).
+struct NoEffectDesign {
+  TireParams base;
+  ConcealCase c = concealEffect(base, smallDesignCase("none", std::nan("")));
+  DiagnosisData data = buildDiagnosisData(c.noise_free);
+  double w3_scale() const { return c.answer.parameters.at("w3_scale"); }
+  double mu_scale() const { return c.answer.parameters.at("mu_scale"); }
+};
+
 Detectability detectabilityOf(const ConcealSpec& spec, const DetectabilityOptions& options) {
   const TireParams base;
   const ConcealCase c = concealEffect(base, spec);
@@ -208,9 +217,9 @@ TEST(DiagnosisDetectability, ReferenceStandardErrorIsTheSpreadOfNoisyFits) {
 }
 
 TEST(DiagnosisDetectability, InvalidOptionsAndTermsNameTheProblem) {
-  const TireParams base;
-  const ConcealCase c = concealEffect(base, smallDesignCase("none", std::nan("")));
-  const DiagnosisData data = buildDiagnosisData(c.noise_free);
+  const NoEffectDesign design;
+  const TireParams& base = design.base;
+  const DiagnosisData& data = design.data;
   DetectabilityOptions o;
   o.wear_noise_rsd = 0.0;
   try {
@@ -275,10 +284,10 @@ const DetectionLimit& limitOf(const std::vector<DetectionLimit>& limits, const s
 // A quiet transducer (0.1 N) keeps the limit small (0.3 N), where the mu_scale shift that absorbs part of it is
 // linear to 0.3%; at 1 N the two sides differ by +-3% from the closed form, the second-order term.
 TEST(DiagnosisDetectionLimits, OffsetLimitMatchesTheLinearClosedForm) {
-  const TireParams base;
-  const ConcealCase c = concealEffect(base, smallDesignCase("none", std::nan("")));
-  const DiagnosisData data = buildDiagnosisData(c.noise_free);
-  const double w3 = c.answer.parameters.at("w3_scale"), mu = c.answer.parameters.at("mu_scale");
+  const NoEffectDesign design;
+  const TireParams& base = design.base;
+  const DiagnosisData& data = design.data;
+  const double w3 = design.w3_scale(), mu = design.mu_scale();
   DetectabilityOptions o;
   o.side_force_noise_n = 0.1;
   o.wear_noise_rsd = 0.05;
@@ -322,13 +331,11 @@ TEST(DiagnosisDetectionLimits, OffsetLimitMatchesTheLinearClosedForm) {
 // the search and the truth it builds agree with the concealed-effect generator, for a two-sided term and for a
 // one-sided one (the boundary test's doubled level).
 TEST(DiagnosisDetectionLimits, RecordingsAtTheLimitHaveTheWantedPower) {
-  const TireParams base;
-  const ConcealCase c = concealEffect(base, smallDesignCase("none", std::nan("")));
-  const DiagnosisData data = buildDiagnosisData(c.noise_free);
+  const NoEffectDesign design;
   DetectabilityOptions o;
   o.draws = 100;
   const std::vector<DetectionLimit> limits =
-      detectionLimits(base, data, c.answer.parameters.at("w3_scale"), c.answer.parameters.at("mu_scale"), 0.8, o);
+      detectionLimits(design.base, design.data, design.w3_scale(), design.mu_scale(), 0.8, o);
   for (const char* term : {"sensor_gain", "lateral_compliance", "surface_polishing"}) {
     const DetectionLimit& limit = limitOf(limits, term);
     ASSERT_TRUE(std::isfinite(limit.above)) << term << ": " << limit.note;
@@ -346,9 +353,9 @@ TEST(DiagnosisDetectionLimits, RecordingsAtTheLimitHaveTheWantedPower) {
 }
 
 TEST(DiagnosisDetectionLimits, OneSidedTermsSwitchesAndMissingCovariates) {
-  const TireParams base;
-  const ConcealCase c = concealEffect(base, smallDesignCase("none", std::nan("")));
-  DiagnosisData data = buildDiagnosisData(c.noise_free);
+  const NoEffectDesign design;
+  const TireParams& base = design.base;
+  DiagnosisData data = design.data;
   data.has_temperature = false;
   DetectabilityOptions o;
   const std::vector<DetectionLimit> limits = detectionLimits(base, data, 1.0, 1.0, 0.8, o);
@@ -372,9 +379,9 @@ TEST(DiagnosisDetectionLimits, OneSidedTermsSwitchesAndMissingCovariates) {
 }
 
 TEST(DiagnosisDetectionLimits, BadInputNamesTheProblem) {
-  const TireParams base;
-  const ConcealCase c = concealEffect(base, smallDesignCase("none", std::nan("")));
-  const DiagnosisData data = buildDiagnosisData(c.noise_free);
+  const NoEffectDesign design;
+  const TireParams& base = design.base;
+  const DiagnosisData& data = design.data;
   DetectabilityOptions o;
   o.candidates = {Term::kSensorOffset};
   for (double power : {0.0, 1.0, std::nan("")}) {
