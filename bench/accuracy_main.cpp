@@ -48,7 +48,8 @@ double threadCpuSeconds() {
 
 /// Evaluates every condition; with cpu_us, also its minimum thread CPU time over 5 repetitions [us].
 std::vector<WearResult> evaluateAll(const TireParams& params, const BrushOptions& base,
-                                    const std::vector<bench::Condition>& conditions, std::vector<double>* cpu_us = nullptr) {
+                                    const std::vector<bench::Condition>& conditions,
+                                    std::vector<double>* cpu_us = nullptr) {
   BrushOptions lit = base, flip = base;
   lit.orientation = TurnSlipOrientation::kLiteral;
   flip.orientation = TurnSlipOrientation::kFlipped;
@@ -75,7 +76,8 @@ std::vector<WearResult> cvodeAll(const TireParams& params, const std::vector<ben
       (conditions[k].orientation == TurnSlipOrientation::kLiteral ? s_lit : s_flip).evaluate(conditions[k].op, &out[k]);
     } catch (const std::exception& e) {
       ++*failures;
-      std::fprintf(stderr, "CVODE reference failed at %s (marcher reference used): %s\n", conditions[k].label.c_str(), e.what());
+      std::fprintf(stderr, "CVODE reference failed at %s (marcher reference used): %s\n", conditions[k].label.c_str(),
+                   e.what());
       out[k] = fallback[k];
     }
   }
@@ -96,12 +98,13 @@ void report(const std::string& name, const std::string& set, const std::vector<b
     for (int q = 0; q < 5; ++q) over[q] += ratio[q] > 1.0;
     if (points) {
       const OperatingPoint& op = conditions[k].op;
-      std::fprintf(points, "\"%s\",%s,%s,%g,%g,%g,%g,%g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.3g\n", name.c_str(), set.c_str(),
-                   conditions[k].orientation == TurnSlipOrientation::kLiteral ? "literal" : "flipped", op.speed_mps,
-                   op.slip_angle_rad / units::kDegree, op.slip_ratio, op.path_curvature_per_m, op.load_n, e.fx, e.fy,
-                   e.mz, e.wear, e.stick, e.exact_stick, cpu_us.empty() ? 0.0 : cpu_us[k]);
+      std::fprintf(points, "\"%s\",%s,%s,%g,%g,%g,%g,%g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.3g\n", name.c_str(),
+                   set.c_str(), conditions[k].orientation == TurnSlipOrientation::kLiteral ? "literal" : "flipped",
+                   op.speed_mps, op.slip_angle_rad / units::kDegree, op.slip_ratio, op.path_curvature_per_m, op.load_n,
+                   e.fx, e.fy, e.mz, e.wear, e.stick, e.exact_stick, cpu_us.empty() ? 0.0 : cpu_us[k]);
     }
-    const double f = std::max({e.fx, e.fy, e.mz}) / 0.01, w = e.wear / 0.02, a = std::max(e.stick, e.exact_stick) / 0.02;
+    const double f = std::max({e.fx, e.fy, e.mz}) / 0.01, w = e.wear / 0.02,
+                 a = std::max(e.stick, e.exact_stick) / 0.02;
     const double v[3] = {f, w, a};
     for (int q = 0; q < 3; ++q)
       if (v[q] > worst_v[q]) worst_v[q] = v[q], worst_k[q] = k;
@@ -114,11 +117,12 @@ void report(const std::string& name, const std::string& set, const std::vector<b
                   cpu_us[std::min(cpu_us.size() - 1, static_cast<size_t>(0.99 * cpu_us.size()))]);
     timing = buf;
   }
-  std::printf("%-28s %-5s %7.3f%% %7.3f%% %7.3f%% %7.3f%% %7.4f %7.4f | over bounds (Fx Fy Mz W_r stick): %d %d %d %d %d of %zu"
-              " | worst F: %s | worst W: %s%s\n",
-              name.c_str(), set.c_str(), 100 * worst.fx, 100 * worst.fy, 100 * worst.mz, 100 * worst.wear, worst.stick,
-              worst.exact_stick, over[0], over[1], over[2], over[3], over[4], conditions.size(),
-              conditions[worst_k[0]].label.c_str(), conditions[worst_k[1]].label.c_str(), timing.c_str());
+  std::printf(
+      "%-28s %-5s %7.3f%% %7.3f%% %7.3f%% %7.3f%% %7.4f %7.4f | over bounds (Fx Fy Mz W_r stick): %d %d %d %d %d of %zu"
+      " | worst F: %s | worst W: %s%s\n",
+      name.c_str(), set.c_str(), 100 * worst.fx, 100 * worst.fy, 100 * worst.mz, 100 * worst.wear, worst.stick,
+      worst.exact_stick, over[0], over[1], over[2], over[3], over[4], conditions.size(),
+      conditions[worst_k[0]].label.c_str(), conditions[worst_k[1]].label.c_str(), timing.c_str());
 }
 
 }  // namespace
@@ -174,16 +178,19 @@ int main(int argc, char** argv) {
       c.options.refinement = refine;
       c.options.turn_slip_iterations = std::atoi(argv[i + 5]);
       c.options.root_tolerance = std::atof(argv[i + 6]);
-      c.name = std::string(argv[i + 1]) + "x" + argv[i + 2] + " g" + argv[i + 3] + " " + argv[i + 4] + " p" + argv[i + 5] +
-               " t" + argv[i + 6] + (refine.max_level > 0 ? " L" + std::to_string(refine.max_level) : "") +
+      c.name = std::string(argv[i + 1]) + "x" + argv[i + 2] + " g" + argv[i + 3] + " " + argv[i + 4] + " p" +
+               argv[i + 5] + " t" + argv[i + 6] +
+               (refine.max_level > 0 ? " L" + std::to_string(refine.max_level) : "") +
                (entry_periods > 0.0 ? " e" + std::to_string(entry_grading).substr(0, 4) : "") +
                (entry_periods > 0.0 && entry_strips > 0 ? " ey" + std::to_string(entry_strips) : "");
       candidates.push_back(c);
       i += 6;
     } else {
       std::fprintf(stderr,
-                   "usage: %s [--reference marcher|cvode] [--road-params FILE] [--coarse | --random N [--seed S]] [--time] [--points FILE.csv] "
-                   "[--refine LEVEL BUDGET RESOLUTION DAMPING_RATIO] [--entry PERIODS GRADING] [--entry-strips N] [--grid NX NY GRADING sine|gauss|panels PASSES TOL]...\n",
+                   "usage: %s [--reference marcher|cvode] [--road-params FILE] [--coarse | --random N [--seed S]] "
+                   "[--time] [--points FILE.csv] "
+                   "[--refine LEVEL BUDGET RESOLUTION DAMPING_RATIO] [--entry PERIODS GRADING] [--entry-strips N] "
+                   "[--grid NX NY GRADING sine|gauss|panels PASSES TOL]...\n",
                    argv[0]);
       return 2;
     }
@@ -213,9 +220,11 @@ int main(int argc, char** argv) {
     ref_rig = cvodeAll(grosch, rig, ref_rig, &failures);
     ref_road = cvodeAll(road, roadset, ref_road, &failures);
   }
+  const std::string reference_name =
+      use_cvode ? "ReferenceBrushSolver (CVODE), " + std::to_string(failures) + " condition(s) fell back to the marcher"
+                : "marcher preset 'reference' (1600 x 64)";
   std::printf("reference: %s; road tire: %s (nominal load %.0f N), %zu %sroad and %zu rig conditions\n",
-              use_cvode ? ("ReferenceBrushSolver (CVODE), " + std::to_string(failures) + " condition(s) fell back to the marcher").c_str()
-                        : "marcher preset 'reference' (1600 x 64)",
+              reference_name.c_str(),
               road.name.c_str(), nominal, roadset.size(),
               random_points > 0 ? ("random (seed " + std::to_string(random_seed) + ") ").c_str() : "", rig.size());
   std::FILE* points = nullptr;

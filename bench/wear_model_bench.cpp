@@ -38,7 +38,9 @@ double threadCpuSeconds() {
 /// Writes median, p99 and max [us] of samples [s] as counters prefix_median_us, ...
 void percentiles(benchmark::State& state, const std::string& prefix, std::vector<double> samples) {
   std::sort(samples.begin(), samples.end());
-  auto pct = [&](double q) { return samples.empty() ? 0.0 : samples[std::min(samples.size() - 1, size_t(q * samples.size()))]; };
+  auto pct = [&](double q) {
+    return samples.empty() ? 0.0 : samples[std::min(samples.size() - 1, size_t(q * samples.size()))];
+  };
   state.counters[prefix + "median_us"] = pct(0.5) * 1e6;
   state.counters[prefix + "p99_us"] = pct(0.99) * 1e6;
   state.counters[prefix + "max_us"] = samples.empty() ? 0.0 : samples.back() * 1e6;

@@ -46,7 +46,8 @@ const char* const kCharacteristicsUsage =
     "usage: tread_wear_wear_characteristics --params FILE [--orientation literal|flipped] [--out-dir DIR]\n"
     "Section 4.3 of the paper on the rig's circular track: W_r over side force for several loads (Fig 13) and\n"
     "speeds (Figs 15, 17), the optimal load for a required side force, local optimal speeds and the\n"
-    "v0 sin(alpha) = v_m condition, as CSV files in DIR (default docs/figures). Plot: scripts/plot_wear_characteristics.py\n";
+    "v0 sin(alpha) = v_m condition, as CSV files in DIR (default docs/figures). Plot: "
+    "scripts/plot_wear_characteristics.py\n";
 
 const char* const kReferenceUsage =
     "usage: tread_wear_reference_models --params FILE --runs RUNS.csv [--orientation literal|flipped]\n"
@@ -173,7 +174,8 @@ int runWearCharacteristicsCli(int argc, const char* const argv[], std::ostream& 
     for (const auto& a : wc.at_side_force) {
       out << "  " << a.side_force_n << " -> ";
       if (a.optimal_load.found)
-        out << a.optimal_load.x << " (" << a.optimal_load.y * 1e6 << ")" << (a.optimal_load.at_edge ? " at grid edge" : "");
+        out << a.optimal_load.x << " (" << a.optimal_load.y * 1e6 << ")"
+            << (a.optimal_load.at_edge ? " at grid edge" : "");
       else
         out << "not reachable";
       out << "; local optimal speeds [m/s]:";

@@ -26,7 +26,8 @@ ConditionsTable readConditions(std::istream& in, const std::string& source) {
     if (first == std::string::npos || text[first] == '#') continue;
     std::vector<std::string> cells;
     std::string error;
-    if (!csv::splitLine(text, &cells, &error)) throw ConditionsError(source + ": line " + std::to_string(line_no) + ": " + error);
+    if (!csv::splitLine(text, &cells, &error))
+      throw ConditionsError(source + ": line " + std::to_string(line_no) + ": " + error);
     if (table.header.empty()) {
       table.header = cells;
       std::set<std::string> seen;

@@ -129,7 +129,8 @@ void study(const TireParams& params, TurnSlipOrientation orientation, bool quick
     ReferenceSolverOptions o = chosen;
     o.n_strips = s.strips;
     o.rel_tol = s.rel_tol;
-    const Sample sample = (s.strips == chosen.n_strips && s.rel_tol == chosen.rel_tol) ? base : runReference(params, o, points);
+    const Sample sample =
+        (s.strips == chosen.n_strips && s.rel_tol == chosen.rel_tol) ? base : runReference(params, o, points);
     const MaxErrors e = maxErrors(sample, ref);
     out << "| " << s.strips << " | " << std::scientific << std::setprecision(0) << s.rel_tol << std::fixed << " | "
         << std::setprecision(5) << e.fy << " | " << e.mz << " | " << e.wr << " | " << std::setprecision(1)
@@ -214,7 +215,8 @@ void xStudy(const TireParams& params, const BrushOptions& options, const Operati
 
 std::vector<OperatingPoint> table3RigConditions() {
   // (v0 [m/s], alpha [deg], Fz [N]): paper Tables 2-3, each unique condition once.
-  const double table[7][3] = {{1, 10, 75}, {2, 10, 75}, {3, 10, 75}, {2, 5, 75}, {2, 15, 75}, {2, 10, 50}, {2, 10, 100}};
+  const double table[7][3] = {{1, 10, 75}, {2, 10, 75}, {3, 10, 75}, {2, 5, 75},
+                              {2, 15, 75}, {2, 10, 50}, {2, 10, 100}};
   constexpr double kTrackRadiusM = 0.060;  // Table 1: R_t
   std::vector<OperatingPoint> points;
   for (const auto& row : table) {
@@ -296,9 +298,9 @@ int runConvergenceCli(int argc, const char* const argv[], std::ostream& out, std
       xStudy(params, x_options, point, out);
       return 0;
     }
-    out << "## Convergence study (tread_wear_convergence" << (quick ? " --quick" : "") << (extended ? " --extended" : "")
-        << ", params: "
-        << (params_path.empty() ? "built-in Table 4" : params_path) << ")\n\n";
+    out << "## Convergence study (tread_wear_convergence" << (quick ? " --quick" : "")
+        << (extended ? " --extended" : "") << ", params: " << (params_path.empty() ? "built-in Table 4" : params_path)
+        << ")\n\n";
     if (orientation != "flipped") study(params, TurnSlipOrientation::kLiteral, quick, extended, out);
     if (orientation != "literal") study(params, TurnSlipOrientation::kFlipped, quick, extended, out);
   } catch (const std::exception& e) {

@@ -103,7 +103,8 @@ class Fitter {
     ExtendedModel model(base_, options_.model, fitted->terms, data_);
     std::vector<FitParameter> params = model.parameters();
     const std::vector<double> values = fitted->summary.values();
-    for (std::size_t j = 0; j < params.size(); ++j) params[j].initial = std::clamp(values[j], params[j].lower, params[j].upper);
+    for (std::size_t j = 0; j < params.size(); ++j)
+      params[j].initial = std::clamp(values[j], params[j].lower, params[j].upper);
     LeastSquaresProblem problem = makeProblem(model, params);
     problem.groups = data_.cv_groups;
     const CrossValidationResult cv = crossValidate(problem, options_.solver);
@@ -340,8 +341,10 @@ bool DiagnosisOptions::validate(std::string* error) const {
     if (error) *error = "diagnosis options: " + m;
     return false;
   };
-  if (!(alpha_locate > 0.0 && alpha_locate < 1.0)) return fail("alpha_locate = " + format(alpha_locate) + " must be in (0, 1)");
-  if (!(alpha_select > 0.0 && alpha_select < 1.0)) return fail("alpha_select = " + format(alpha_select) + " must be in (0, 1)");
+  if (!(alpha_locate > 0.0 && alpha_locate < 1.0))
+    return fail("alpha_locate = " + format(alpha_locate) + " must be in (0, 1)");
+  if (!(alpha_select > 0.0 && alpha_select < 1.0))
+    return fail("alpha_select = " + format(alpha_select) + " must be in (0, 1)");
   if (!(min_aicc_drop >= 0.0)) return fail("min_aicc_drop = " + format(min_aicc_drop) + " must be >= 0");
   if (max_terms < 0) return fail("max_terms = " + std::to_string(max_terms) + " must be >= 0");
   if (max_cv_candidates < 1) return fail("max_cv_candidates = " + std::to_string(max_cv_candidates) + " must be >= 1");
@@ -398,7 +401,8 @@ DiagnosisResult diagnose(const TireParams& base, const DiagnosisData& data, cons
 
   // 2. Base fit, then again with its own RMSER as the noise scale.
   result.base = fitter.fit({}, {}, false);
-  if (!result.base.usable) throw std::invalid_argument("the base model could not be fitted: " + result.base.summary.message);
+  if (!result.base.usable)
+    throw std::invalid_argument("the base model could not be fitted: " + result.base.summary.message);
   result.base = reweight(result.base);
 
   // 3. Locate.

@@ -52,13 +52,15 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
   if (!a.has("params")) return usage("--params is required");
   if (a.has("runs") == a.has("bag")) return usage("give exactly one of --runs and --bag");
   if (!a.has("report")) return usage("--report is required");
-  if (a.has("bag") && !bag_reader) return usage("--bag: this build has no rosbag support (built without catkin's rosbag)");
+  if (a.has("bag") && !bag_reader)
+    return usage("--bag: this build has no rosbag support (built without catkin's rosbag)");
   DiagnosisOptions opt;
   std::string e = modelOptions(a, &opt.model);
   if (!e.empty()) return usage(e);
   for (const std::string& name : splitList(a.get("candidates"))) {
     Term t;
-    if (!parseTerm(name, &t)) return usage("--candidates: '" + name + "' is not a library term (tread_wear_conceal --list)");
+    if (!parseTerm(name, &t))
+      return usage("--candidates: '" + name + "' is not a library term (tread_wear_conceal --list)");
     opt.candidates.push_back(t);
   }
   int seed = static_cast<int>(opt.seed);

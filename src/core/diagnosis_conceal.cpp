@@ -45,7 +45,8 @@ bool ConcealSpec::validate(std::string* error) const {
     return false;
   };
   Term t;
-  if (effect != "none" && !parseTerm(effect, &t)) return fail("effect = '" + effect + "' is not a library term or none");
+  if (effect != "none" && !parseTerm(effect, &t))
+    return fail("effect = '" + effect + "' is not a library term or none");
   if (design != "table2" && design != "small") return fail("design = '" + design + "' must be table2 or small");
   if (!(wear_noise_rsd >= 0.0) || wear_noise_rsd > 0.5) return fail("wear_noise_rsd must be in [0, 0.5]");
   if (!(side_force_noise_n >= 0.0)) return fail("side_force_noise_n must be >= 0");
@@ -157,7 +158,8 @@ ConcealCase concealEffect(const TireParams& base, const ConcealSpec& spec) {
   }
   for (std::size_t j = 0; j < params.size(); ++j) ans.parameters[params[j].name] = values[j];
   Prediction pred;
-  if (!truth.predict(values, &pred)) throw std::invalid_argument("the truth model cannot be evaluated for " + spec.effect);
+  if (!truth.predict(values, &pred))
+    throw std::invalid_argument("the truth model cannot be evaluated for " + spec.effect);
   out.noise_free = table;
   for (std::size_t i = 0; i < table.runs.size(); ++i) {
     out.noise_free.runs[i].measured_side_force_n = pred.side_force_n[i];

@@ -99,13 +99,16 @@ DiagnosisData buildDiagnosisData(const RunTable& table) {
                          " runs with a measured side force or wear rate; the diagnosis needs at least 4");
 
   // Cumulative sliding distance per cycle (surface renewed between cycles), in run order.
-  const bool orders_known = std::all_of(d.runs.begin(), d.runs.end(), [](const DiagnosisRun& r) { return r.run_order >= 0; });
-  const bool any_order = std::any_of(d.runs.begin(), d.runs.end(), [](const DiagnosisRun& r) { return r.run_order >= 0; });
+  const bool orders_known =
+      std::all_of(d.runs.begin(), d.runs.end(), [](const DiagnosisRun& r) { return r.run_order >= 0; });
+  const bool any_order =
+      std::any_of(d.runs.begin(), d.runs.end(), [](const DiagnosisRun& r) { return r.run_order >= 0; });
   const bool any_cycle = std::any_of(d.runs.begin(), d.runs.end(), [](const DiagnosisRun& r) { return r.cycle >= 0; });
   std::vector<int> order(n);
   std::iota(order.begin(), order.end(), 0);
   if (orders_known)
-    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return d.runs[a].run_order < d.runs[b].run_order; });
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int a, int b) { return d.runs[a].run_order < d.runs[b].run_order; });
   std::map<int, double> surface_distance;
   for (int i : order) {
     DiagnosisRun& r = d.runs[i];

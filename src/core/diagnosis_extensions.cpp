@@ -22,7 +22,8 @@ constexpr int kComplianceIterations = 12;
 std::vector<TermInfo> makeLibrary() {
   std::vector<TermInfo> lib;
   lib.push_back({Term::kThermalWear, "thermal_wear",
-                 "abrasion resistance depends on the tread temperature: w3 -> w3 exp((T - T0)^2 / (2 sigma_T^2)) (Eq 25)",
+                 "abrasion resistance depends on the tread temperature: w3 -> w3 exp((T - T0)^2 / (2 sigma_T^2)) "
+                 "(Eq 25)",
                  true, {false, true},
                  {{"t0_c", 40.0, -50.0, 200.0, false, kNaN}, {"sigma_t_c", 30.0, 2.0, 1000.0, true, kNaN}}, 1});
   lib.push_back({Term::kThermalFriction, "thermal_friction",

@@ -149,8 +149,8 @@ HarnessOutcome scoreCase(const HarnessCase& c, const ConcealAnswer& answer, cons
     if (info.affects[k]) o.improved = o.improved && o.cv_after[k] < o.cv_before[k];
   if (!answer.primary.empty()) {
     o.truth = answer.primary_value;
-    const bool selected =
-        std::find(result.final_model.terms.begin(), result.final_model.terms.end(), t) != result.final_model.terms.end();
+    const bool selected = std::find(result.final_model.terms.begin(), result.final_model.terms.end(), t) !=
+                          result.final_model.terms.end();
     o.parameter_scored = true;
     if (selected) {
       o.parameter_estimated = true;

@@ -112,7 +112,8 @@ nlohmann::json diagnosisJson(const DiagnosisResult& r, const DiagnosisData& data
     if (f.cv_done) c["cv_rmser"] = perOutput(f.cv_rmser);
     if (std::isfinite(f.p_held_out)) c["p_held_out_vs_parent"] = f.p_held_out;
     nlohmann::json pv = nlohmann::json::object();
-    for (const ParameterEstimate& p : f.summary.parameters) pv[p.name] = {{"value", p.value}, {"std_error", num(p.std_error)}};
+    for (const ParameterEstimate& p : f.summary.parameters)
+      pv[p.name] = {{"value", p.value}, {"std_error", num(p.std_error)}};
     c["parameters"] = pv;
     cands.push_back(c);
   }
@@ -169,7 +170,8 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
   m << "- explanation: **" << r.explanation << "**\n";
   for (Term t : r.final_model.terms) {
     const TermInfo& info = termInfo(t);
-    m << "  - `" << info.name << "`" << (info.physical ? "" : " (sensor, not physics)") << ": " << info.statement << "\n";
+    m << "  - `" << info.name << "`" << (info.physical ? "" : " (sensor, not physics)") << ": " << info.statement
+      << "\n";
   }
   for (const CloseAlternative& a : r.close_alternatives)
     m << "- about as well supported: `" << a.model << "` instead of `" << a.instead_of << "` (AICc "
@@ -225,7 +227,8 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
       << " wear). Effects beyond these "
       << "values would have been found that often; smaller ones can hide in these recordings"
       << (r.explanation == "none" ? ", so `none` rules out only the larger ones" : "") << ".\n\n";
-    m << "| term | parameter | no effect at | detectable below | detectable above | note |\n|---|---|---|---|---|---|\n";
+    m << "| term | parameter | no effect at | detectable below | detectable above | note |\n"
+         "|---|---|---|---|---|---|\n";
     for (const DetectionLimit& l : r.detection_limits) {
       m << "| " << l.term << " | " << l.parameter << " | "
         << (l.parameter == "sigma_t_c" ? std::string("infinity") : g(l.neutral, 4)) << " | " << g(l.below, 3) << " | "
@@ -245,7 +248,8 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
   m << "condition number " << g(r.final_model.summary.condition_number, 3) << ".\n";
   const bool remaining = std::any_of(r.located_after.begin(), r.located_after.end(),
                                      [](const LocatedEffect& e) { return e.significant; });
-  m << "\nAfter the selected model, " << (remaining ? "the residual still follows:" : "no locating test is significant.");
+  m << "\nAfter the selected model, "
+    << (remaining ? "the residual still follows:" : "no locating test is significant.");
   for (const LocatedEffect& e : r.located_after)
     if (e.significant) m << " " << outputName(e.output) << "/`" << e.covariate << "`";
   m << "\n";

@@ -73,7 +73,9 @@ void DriveReplay::addSample(int wheel, const InputSample& sample) {
   samples.push_back(sample);
 }
 
-std::size_t DriveReplay::sampleCount(int wheel) const { return runs_.at(static_cast<std::size_t>(wheel))->samples.size(); }
+std::size_t DriveReplay::sampleCount(int wheel) const {
+  return runs_.at(static_cast<std::size_t>(wheel))->samples.size();
+}
 
 const std::vector<StepRecord>& DriveReplay::records(int wheel) const {
   return runs_.at(static_cast<std::size_t>(wheel))->records;
@@ -173,7 +175,8 @@ ReplaySummary DriveReplay::summarize(const std::vector<ProfilePhase>& phases, do
       if (k == 0) continue;
       const int phase = phaseIndexAt(phases, stepTime(k) - phase_time_offset_s);
       if (phase < 0) continue;
-      ws.phase_loss_kg[static_cast<std::size_t>(phase)] += r.accumulated_loss_kg - run.records[k - 1].accumulated_loss_kg;
+      ws.phase_loss_kg[static_cast<std::size_t>(phase)] +=
+          r.accumulated_loss_kg - run.records[k - 1].accumulated_loss_kg;
       s.phase_distance_m[static_cast<std::size_t>(phase)] +=
           (r.distance_m - run.records[k - 1].distance_m) / wheelCount();
     }

@@ -216,15 +216,18 @@ class Loader {
           break;
         }
       }
-      if (!known) fail("unknown key '" + prefix + key + "'; accepted keys in '" + section.name + "': " + acceptedKeys(section));
+      if (!known)
+        fail("unknown key '" + prefix + key + "'; accepted keys in '" + section.name + "': " + acceptedKeys(section));
     }
     for (std::size_t i = 0; i < section.fields.size(); ++i) {
       if (!given[i].empty()) continue;
       bool optional = false;
-      for (const char* name : section.optional_fields) optional = optional || std::string(name) == section.fields[i].field;
+      for (const char* name : section.optional_fields)
+        optional = optional || std::string(name) == section.fields[i].field;
       if (optional) continue;
       std::string spellings;
-      for (const UnitKey& unit_key : section.fields[i].keys) spellings += (spellings.empty() ? "" : " or ") + std::string(unit_key.key);
+      for (const UnitKey& unit_key : section.fields[i].keys)
+        spellings += (spellings.empty() ? "" : " or ") + std::string(unit_key.key);
       fail("missing required key '" + prefix + section.fields[i].field + "' (give " + spellings + ")");
     }
   }

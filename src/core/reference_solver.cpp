@@ -459,18 +459,20 @@ void ReferenceBrushSolver::evaluate(const OperatingPoint& op, WearResult* result
       double t_ret = t;
       const int flag = CVode(w.cvode, t_target, w.y, &t_ret, CV_NORMAL);
       if (flag < 0)
-        throw std::runtime_error("ReferenceBrushSolver: CVODE failed on strip y = " + std::to_string(w.y_m) +
-                                 " m at x = " + std::to_string(a - w.Vr * t_ret) + " m in " +
-                                 (w.mode == Mode::kStick ? "stick" : "slide, |v_s| = " + std::to_string(std::hypot(yv[kVsx], yv[kVsy]))) +
-                                 ": " + w.cvode_message);
+        throw std::runtime_error(
+            "ReferenceBrushSolver: CVODE failed on strip y = " + std::to_string(w.y_m) +
+            " m at x = " + std::to_string(a - w.Vr * t_ret) + " m in " +
+            (w.mode == Mode::kStick ? "stick" : "slide, |v_s| = " + std::to_string(std::hypot(yv[kVsx], yv[kVsy]))) +
+            ": " + w.cvode_message);
       t = t_ret;
       if (flag == CV_ROOT_RETURN) {
         CVodeGetRootInfo(w.cvode, rootsfound.data());
         if (rootsfound[1] != 0) setFast(rootsfound[1] > 0, t);
         if (rootsfound[0] != 0) {
           if (++events > options_.max_events_per_strip)
-            throw std::runtime_error("ReferenceBrushSolver: more than max_events_per_strip mode switches on strip y = " +
-                                     std::to_string(w.y_m) + " m");
+            throw std::runtime_error(
+                "ReferenceBrushSolver: more than max_events_per_strip mode switches on strip y = " +
+                std::to_string(w.y_m) + " m");
           if (w.mode == Mode::kStick) {
             // At free rolling the stick stress is exactly zero and the static disc shrinks to that point
             // at the trailing edge: the root is a touch with no direction to slip in, not a switch.

@@ -42,7 +42,9 @@ struct Arc {
   double radius_m;   ///< > 0
 };
 
-double transitionLength(const Arc& arc) { return std::min(arc.radius_m / 3.0, std::fabs(arc.angle_rad) * arc.radius_m); }
+double transitionLength(const Arc& arc) {
+  return std::min(arc.radius_m / 3.0, std::fabs(arc.angle_rad) * arc.radius_m);
+}
 double arcLength(const Arc& arc) { return std::fabs(arc.angle_rad) * arc.radius_m + transitionLength(arc); }
 
 }  // namespace

@@ -63,16 +63,20 @@ bool VehicleParams::validate(std::string* error) const {
     return failValidation(error, "all_wheel_front_drive_share", all_wheel_front_drive_share, "in [0, 1]");
   if (!unitInterval(brake_balance_front))
     return failValidation(error, "brake_balance_front", brake_balance_front, "in [0, 1]");
-  if (!nonNegative(drag_coefficient)) return failValidation(error, "drag_coefficient", drag_coefficient, "finite and >= 0");
-  if (!nonNegative(frontal_area_m2)) return failValidation(error, "frontal_area_m2", frontal_area_m2, "finite and >= 0");
+  if (!nonNegative(drag_coefficient))
+    return failValidation(error, "drag_coefficient", drag_coefficient, "finite and >= 0");
+  if (!nonNegative(frontal_area_m2))
+    return failValidation(error, "frontal_area_m2", frontal_area_m2, "finite and >= 0");
   if (!nonNegative(air_density_kg_per_m3))
     return failValidation(error, "air_density_kg_per_m3", air_density_kg_per_m3, "finite and >= 0");
   if (!nonNegative(rolling_resistance_coefficient))
     return failValidation(error, "rolling_resistance_coefficient", rolling_resistance_coefficient, "finite and >= 0");
   if (!positive(cornering_stiffness_front_per_rad))
-    return failValidation(error, "cornering_stiffness_front_per_rad", cornering_stiffness_front_per_rad, "finite and > 0");
+    return failValidation(error, "cornering_stiffness_front_per_rad", cornering_stiffness_front_per_rad,
+                          "finite and > 0");
   if (!positive(cornering_stiffness_rear_per_rad))
-    return failValidation(error, "cornering_stiffness_rear_per_rad", cornering_stiffness_rear_per_rad, "finite and > 0");
+    return failValidation(error, "cornering_stiffness_rear_per_rad", cornering_stiffness_rear_per_rad,
+                          "finite and > 0");
   if (!positive(longitudinal_slip_stiffness))
     return failValidation(error, "longitudinal_slip_stiffness", longitudinal_slip_stiffness, "finite and > 0");
   if (!positive(gravity_mps2)) return failValidation(error, "gravity_mps2", gravity_mps2, "finite and > 0");
@@ -141,7 +145,8 @@ VehicleModel::VehicleModel(const VehicleParams& params) : params_(params) {
 
 double VehicleModel::staticLoad(int wheel) const {
   const VehicleParams& p = params_;
-  const double axle_share = wheel < kRearLeft ? p.cogToRearAxle_m() / p.wheelbase_m : p.cog_to_front_axle_m / p.wheelbase_m;
+  const double axle_share =
+      wheel < kRearLeft ? p.cogToRearAxle_m() / p.wheelbase_m : p.cog_to_front_axle_m / p.wheelbase_m;
   return 0.5 * p.mass_kg * p.gravity_mps2 * axle_share;
 }
 

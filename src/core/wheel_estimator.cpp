@@ -48,7 +48,8 @@ const char* wheelStatusName(WheelStatus status) {
 }
 
 bool InputLimits::validate(std::string* error) const {
-  if (!(max_load_n > 0.0) || !std::isfinite(max_load_n)) return failValidation(error, "max_load_n", max_load_n, "finite and > 0");
+  if (!(max_load_n > 0.0) || !std::isfinite(max_load_n))
+    return failValidation(error, "max_load_n", max_load_n, "finite and > 0");
   if (!(max_abs_slip_angle_rad > 0.0 && max_abs_slip_angle_rad < 0.5 * units::kPi))
     return failValidation(error, "max_abs_slip_angle_rad", max_abs_slip_angle_rad, "in (0, pi/2)");
   if (!(max_abs_slip_ratio > 0.0 && max_abs_slip_ratio <= 1.0))

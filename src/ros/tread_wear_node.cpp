@@ -501,7 +501,8 @@ void TreadWearNode::saveState(const char* reason) {
   if (store_->save(state, &error)) {
     saved_state_ = state;
     last_save_wall_s_ = wallNow_s();
-    if (!persistence_problem_.empty() && persistence_problem_.rfind("save failed", 0) == 0) persistence_problem_.clear();
+    if (!persistence_problem_.empty() && persistence_problem_.rfind("save failed", 0) == 0)
+      persistence_problem_.clear();
     ROS_DEBUG("state saved (%s) to %s", reason, store_->path().c_str());
   } else {
     persistence_problem_ = "save failed: " + error;

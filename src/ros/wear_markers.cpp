@@ -88,11 +88,13 @@ void appendWheelMarkers(const std::string& wheel, const std::string& frame_id, c
       const double y0 = j == 0 ? -b : 0.5 * (fields.y_m[j - 1] + fields.y_m[j]);
       const double y1 = j == ny - 1 ? b : 0.5 * (fields.y_m[j] + fields.y_m[j + 1]);
       for (int i = 0; i + 1 < nx; ++i) {
-        const double w = 0.5 * (fields.wear_kg_per_m3[fields.index(i, j)] + fields.wear_kg_per_m3[fields.index(i + 1, j)]);
+        const double w =
+            0.5 * (fields.wear_kg_per_m3[fields.index(i, j)] + fields.wear_kg_per_m3[fields.index(i + 1, j)]);
         const double t = w > 0.0 && std::isfinite(log_lo) ? (std::log(w) - log_lo) / span : 0.0;
         addCell(&wear, fields.x_m[i + 1], fields.x_m[i], y0, y1, 0.0, ramp(t));
         const unsigned char s = std::max(fields.state[fields.index(i, j)], fields.state[fields.index(i + 1, j)]);
-        const std_msgs::ColorRGBA zc = s == 0 ? rgba(0.1, 0.7, 0.2) : (s == 1 ? rgba(0.95, 0.8, 0.1) : rgba(0.85, 0.1, 0.1));
+        const std_msgs::ColorRGBA zc =
+            s == 0 ? rgba(0.1, 0.7, 0.2) : (s == 1 ? rgba(0.95, 0.8, 0.1) : rgba(0.85, 0.1, 0.1));
         addCell(&zones, fields.x_m[i + 1], fields.x_m[i], y0 + zone_offset, y1 + zone_offset, 0.0, zc);
       }
     }
@@ -104,7 +106,8 @@ void appendWheelMarkers(const std::string& wheel, const std::string& frame_id, c
   // readable beside it at any tire size.
   const double patch_size_m = std::max(result.half_length_m, b);
   const double text_height_m = std::max(kMinTextHeightM, 0.25 * patch_size_m);
-  visualization_msgs::Marker label = base(wheel + "/label", frame_id, stamp, visualization_msgs::Marker::TEXT_VIEW_FACING);
+  visualization_msgs::Marker label =
+      base(wheel + "/label", frame_id, stamp, visualization_msgs::Marker::TEXT_VIEW_FACING);
   label.pose.position.x = result.half_length_m + 1.5 * text_height_m;
   label.pose.position.y = 1.25 * b;
   label.scale.z = text_height_m;

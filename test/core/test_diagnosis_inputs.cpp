@@ -101,12 +101,14 @@ TEST(DiagnosisInputs, CliUsageErrors) {
   const CliResult bag = diagnoseCli({"--params", kParams, "--bag", "b.bag", "--report", "r"});
   EXPECT_EQ(bag.code, 2);
   EXPECT_NE(bag.err.find("rosbag"), std::string::npos) << bag.err;
-  const CliResult cand = diagnoseCli({"--params", kParams, "--runs", "a.csv", "--report", "r", "--candidates", "magic"});
+  const CliResult cand =
+      diagnoseCli({"--params", kParams, "--runs", "a.csv", "--report", "r", "--candidates", "magic"});
   EXPECT_EQ(cand.code, 2);
   EXPECT_NE(cand.err.find("'magic'"), std::string::npos) << cand.err;
   EXPECT_EQ(diagnoseCli({"--params", kParams, "--runs", "a.csv", "--report", "r", "--max-terms", "x"}).code, 2);
   EXPECT_EQ(diagnoseCli({"--params", kParams, "--runs", "a.csv", "--report", "r", "--alpha-select", "2"}).code, 2);
-  const CliResult power = diagnoseCli({"--params", kParams, "--runs", "a.csv", "--report", "r", "--detection-power", "1"});
+  const CliResult power =
+      diagnoseCli({"--params", kParams, "--runs", "a.csv", "--report", "r", "--detection-power", "1"});
   EXPECT_EQ(power.code, 2);
   EXPECT_NE(power.err.find("detection_power = 1"), std::string::npos) << power.err;
   EXPECT_EQ(diagnoseCli({"--params", kParams, "--runs", "a.csv", "--report", "r", "stray"}).code, 2);
@@ -128,8 +130,9 @@ TEST(DiagnosisInputs, CliDataErrors) {
   expectDataError("speed_mps,slip_angle_rad,load_n,side_force_n\n"
                   "2,-0.17,75,-50\n2,-0.17,75,-51\n2,-0.17,75,-49\n2,-0.17,75,-52\n",
                   "axis convention");
-  const CliResult bad_bag = diagnoseCli({"--params", kParams, "--bag", "x.bag", "--report", "r"},
-                                        [](const std::string& p) -> RunTable { throw std::runtime_error(p + ": not a bag"); });
+  const CliResult bad_bag =
+      diagnoseCli({"--params", kParams, "--bag", "x.bag", "--report", "r"},
+                  [](const std::string& p) -> RunTable { throw std::runtime_error(p + ": not a bag"); });
   EXPECT_EQ(bad_bag.code, 1);
   EXPECT_NE(bad_bag.err.find("x.bag: not a bag"), std::string::npos) << bad_bag.err;
 }
@@ -139,7 +142,9 @@ TEST(DiagnosisInputs, ConcealErrors) {
   EXPECT_EQ(concealCli({"--params", kParams, "--effect", "none", "--runs", "a.csv"}).code, 2);
   EXPECT_EQ(concealCli({"--params", kParams, "--effect", "none", "--runs", "a.csv", "--answer", "a.json",
                         "--design", "huge"}).code, 2);
-  EXPECT_EQ(concealCli({"--params", "/nonexistent.yaml", "--effect", "none", "--runs", "a.csv", "--answer", "a.json"}).code, 1);
+  EXPECT_EQ(
+      concealCli({"--params", "/nonexistent.yaml", "--effect", "none", "--runs", "a.csv", "--answer", "a.json"}).code,
+      1);
   const CliResult list = concealCli({"--list"});
   EXPECT_EQ(list.code, 0);
   for (const TermInfo& t : termLibrary()) EXPECT_NE(list.out.find(t.name), std::string::npos) << t.name;

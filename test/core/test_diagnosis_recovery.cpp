@@ -58,7 +58,8 @@ void expectRecovered(const std::string& effect, double magnitude) {
   EXPECT_EQ(r.result.explanation, effect);
   if (r.outcome.parameter_scored) {
     // The criterion: the size of the effect within 25%.
-    EXPECT_TRUE(r.outcome.parameter_ok) << effect << ": estimate " << r.outcome.estimate << " truth " << r.outcome.truth;
+    EXPECT_TRUE(r.outcome.parameter_ok) << effect << ": estimate " << r.outcome.estimate << " truth "
+                                        << r.outcome.truth;
   }
   EXPECT_TRUE(r.outcome.improved) << effect << ": held-out RMSER did not improve";
 }

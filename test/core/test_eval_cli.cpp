@@ -99,7 +99,8 @@ TEST_F(Cli, EvalMatchesTheModelAtFullPrecision) {
   WearModelOptions options;
   options.preset = Preset::kFast;
   const WearModel model(loadTireParams(kParams), options);
-  const OperatingPoint ops[3] = {{2, -0.17453292519943295, 0, 1 / 0.06, 75}, {10, 0.05, 0, 0, 3000}, {5, 0, 0.05, 0, 3000}};
+  const OperatingPoint ops[3] = {
+      {2, -0.17453292519943295, 0, 1 / 0.06, 75}, {10, 0.05, 0, 0, 3000}, {5, 0, 0.05, 0, 3000}};
   for (int i = 0; i < 3; ++i) {
     WearResult expected;
     model.evaluate(ops[i], &expected);
@@ -218,7 +219,8 @@ TEST_F(Cli, UsageErrorsAndHelp) {
   const ToolRun missing = run(eval("/nonexistent/conditions.csv"));
   EXPECT_EQ(missing.rc, 1);
   EXPECT_NE(missing.err.find("/nonexistent/conditions.csv"), std::string::npos);
-  const ToolRun bad_params = run(kBin + "/tread_wear_eval --params /nonexistent/tire.yaml -", kHeader + "2,0.1,0,0,75\n");
+  const ToolRun bad_params =
+      run(kBin + "/tread_wear_eval --params /nonexistent/tire.yaml -", kHeader + "2,0.1,0,0,75\n");
   EXPECT_EQ(bad_params.rc, 1);
   EXPECT_TRUE(bad_params.out.empty());
   EXPECT_NE(bad_params.err.find("/nonexistent/tire.yaml"), std::string::npos);

@@ -1,10 +1,10 @@
 // Measured error bounds of the fast, standard and fine presets (docs/performance.md) hold on a modest grid
 // of conditions against the fine reference: the marcher's 'reference' preset (1600 x 64), which agrees
 // with the CVODE ReferenceBrushSolver within 0.02% on the rig grid and within 0.18% (Fx, Fy), 1.9% (Mz),
-// 0.8% (W_r) and 0.008 (fractions) on the road grid (docs/performance.md). The bounds are the whole-grid maxima of the accuracy study, rounded up; the
-// grid here is the Table 3 rig set plus a road subset that contains the study's worst conditions.
-// Error scales: tread_wear/core/solver_errors.h (F relative to max(|F_ref|, 0.05 |F_ref vector|,
-// 0.005 Fz); Mz relative to max(|Mz_ref|, a times that force floor); W_r relative; fractions absolute).
+// 0.8% (W_r) and 0.008 (fractions) on the road grid (docs/performance.md). The bounds are the whole-grid maxima of the
+// accuracy study, rounded up; the grid here is the Table 3 rig set plus a road subset that contains the study's worst
+// conditions. Error scales: tread_wear/core/solver_errors.h (F relative to max(|F_ref|, 0.05 |F_ref vector|, 0.005 Fz);
+// Mz relative to max(|Mz_ref|, a times that force floor); W_r relative; fractions absolute).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -56,8 +56,9 @@ void checkPreset(Preset preset, const std::vector<Condition>& cases, const Bound
     model.evaluate(c.op, &r);
     const SolverErrors e = solverErrors(r0, r, c.op.load_n);
     const std::string where = std::string(presetName(preset)) + " at Fz=" + std::to_string(c.op.load_n) +
-                              " alpha=" + std::to_string(c.op.slip_angle_rad) + " kappa=" + std::to_string(c.op.slip_ratio) +
-                              " V=" + std::to_string(c.op.speed_mps) + " c=" + std::to_string(c.op.path_curvature_per_m);
+                              " alpha=" + std::to_string(c.op.slip_angle_rad) +
+                              " kappa=" + std::to_string(c.op.slip_ratio) + " V=" + std::to_string(c.op.speed_mps) +
+                              " c=" + std::to_string(c.op.path_curvature_per_m);
     EXPECT_LE(e.fx, bounds.force) << where;
     EXPECT_LE(e.fy, bounds.force) << where;
     EXPECT_LE(e.mz, bounds.mz) << where;
@@ -72,7 +73,9 @@ void checkPreset(Preset preset, const std::vector<Condition>& cases, const Bound
 // it meets them for Fx and Fy (0.37% and 0.67% with the entry-transient grid) but not for Mz (1.8% with
 // 24 strips on the entry-transient grid, 6.6% with 12), W_r and the fractions, and the measured maxima
 // are asserted.
-TEST(PresetAccuracy, StandardOnTable3Rig) { checkPreset(Preset::kStandard, bench::rigConditions(), {0.01, 0.01, 0.02, 0.02}); }
+TEST(PresetAccuracy, StandardOnTable3Rig) {
+  checkPreset(Preset::kStandard, bench::rigConditions(), {0.01, 0.01, 0.02, 0.02});
+}
 TEST(PresetAccuracy, StandardOnRoadGrid) { checkPreset(Preset::kStandard, roadCases(), {0.007, 0.02, 0.09, 0.03}); }
 TEST(PresetAccuracy, FastOnTable3Rig) { checkPreset(Preset::kFast, bench::rigConditions(), {0.015, 0.04, 0.02, 0.02}); }
 TEST(PresetAccuracy, FastOnRoadGrid) { checkPreset(Preset::kFast, roadCases(), {0.02, 0.06, 0.19, 0.07}); }

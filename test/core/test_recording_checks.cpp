@@ -26,7 +26,8 @@ RunTable rigRuns(int n) {
 TEST(SideForceSigns, OneRunOfTheWrongSignIsLeftOut) {
   RunTable t = rigRuns(6);
   t.runs[4].measured_side_force_n = -5.0;
-  const std::vector<std::string> warnings = screenSideForceSigns(loadTireParams(kParams), TurnSlipOrientation::kLiteral, &t);
+  const std::vector<std::string> warnings =
+      screenSideForceSigns(loadTireParams(kParams), TurnSlipOrientation::kLiteral, &t);
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_NE(warnings[0].find("run 5 (condition 'bench')"), std::string::npos) << warnings[0];
   EXPECT_NE(warnings[0].find("left out"), std::string::npos) << warnings[0];

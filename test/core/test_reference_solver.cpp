@@ -119,7 +119,9 @@ TEST(ReferenceSolver, FieldsAtRequestedNodesArePhysical) {
   const SavkoorFriction friction(params.friction);
   for (int k = 0; k < nx * solver.strips(); ++k) {
     const double tau = std::hypot(fields.tau_x_pa[k], fields.tau_y_pa[k]);
-    EXPECT_LE(tau, friction.saturation(fields.pressure_pa[k]) * params.friction.mu_m * fields.pressure_pa[k] * (1 + 1e-9) + 1e-6);
+    EXPECT_LE(
+        tau,
+        friction.saturation(fields.pressure_pa[k]) * params.friction.mu_m * fields.pressure_pa[k] * (1 + 1e-9) + 1e-6);
     const double vs_dot_tau = fields.v_sx_mps[k] * fields.tau_x_pa[k] + fields.v_sy_mps[k] * fields.tau_y_pa[k];
     EXPECT_LE(vs_dot_tau, 1e-12);
   }

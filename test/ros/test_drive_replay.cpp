@@ -27,7 +27,8 @@ const std::string kConfig = kSource + "/config/vehicle_wheels.yaml";
 
 /// 12 s: launch to 40 km/h, cruise, brake to 20 km/h; deterministic route with a junction turn or bend.
 SpeedProfile shortProfile() {
-  return SpeedProfile({0, 2, 6, 9, 12}, {0, 10 / 3.6, 40 / 3.6, 40 / 3.6, 20 / 3.6}, {{"A", 0, 6}, {"B", 6, 12}}, "short");
+  return SpeedProfile({0, 2, 6, 9, 12}, {0, 10 / 3.6, 40 / 3.6, 40 / 3.6, 20 / 3.6}, {{"A", 0, 6}, {"B", 6, 12}},
+                      "short");
 }
 
 std::string tempPath(const std::string& name) { return ::testing::TempDir() + name; }

@@ -162,11 +162,13 @@ TEST(NodeIo, InputsInOutputsOut) {
   ros::NodeHandle nh;
   tread_wear::VehicleWear vehicle;
   int vehicle_count = 0;
-  ros::Subscriber vs = nh.subscribe<tread_wear::VehicleWear>("wear", 10, [&](const tread_wear::VehicleWear::ConstPtr& m) {
-    vehicle = *m;
-    ++vehicle_count;
-  });
-  ASSERT_TRUE(h.spinUntil([&] { return h.last().status == tread_wear::WheelWear::STATUS_OK && h.last().accumulated_loss_kg > 0.0; }, 10.0));
+  ros::Subscriber vs =
+      nh.subscribe<tread_wear::VehicleWear>("wear", 10, [&](const tread_wear::VehicleWear::ConstPtr& m) {
+        vehicle = *m;
+        ++vehicle_count;
+      });
+  ASSERT_TRUE(h.spinUntil(
+      [&] { return h.last().status == tread_wear::WheelWear::STATUS_OK && h.last().accumulated_loss_kg > 0.0; }, 10.0));
   const WearResult direct = directResult();
   const tread_wear::WheelWear m = h.last();
   EXPECT_EQ(m.wheel, "a");
@@ -319,8 +321,8 @@ TEST(TimeJump, BackwardJumpKeepsTheAccumulatedLoss) {
   EXPECT_LT(h.last().distance_m - distance_before, 0.5 * 1.0);
   ASSERT_TRUE(run([&] { return h.last().status == tread_wear::WheelWear::STATUS_OK &&
                                h.last().accumulated_loss_kg > before; }, 5.0));
-  ASSERT_TRUE(run([&] { return !h.diag("time jumps backward").empty() && std::stoi(h.diag("time jumps backward")) >= 1; },
-                  5.0));
+  ASSERT_TRUE(run(
+      [&] { return !h.diag("time jumps backward").empty() && std::stoi(h.diag("time jumps backward")) >= 1; }, 5.0));
   // Loss per distance is still W_r: the jump did not corrupt the integral.
   const WearResult direct = directResult();
   EXPECT_NEAR(h.last().accumulated_loss_kg / h.last().distance_m, direct.wear_rate_kg_per_m,

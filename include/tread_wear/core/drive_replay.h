@@ -48,7 +48,8 @@ struct ReplayWheel {
 struct InputSample {
   double t_s = 0.0;  ///< arrival time [s]
   InputKind kind = InputKind::kLoad;
-  double value[3] = {0.0, 0.0, 0.0};  ///< load_n | (slip_angle_rad, slip_ratio, path_curvature_per_m) | speed_mps | temperature_c
+  /// load_n | (slip_angle_rad, slip_ratio, path_curvature_per_m) | speed_mps | temperature_c
+  double value[3] = {0.0, 0.0, 0.0};
 };
 
 /// What one step of one wheel produced (the fields of WheelWear).

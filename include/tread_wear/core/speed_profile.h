@@ -7,8 +7,9 @@
 /// `time_s` and either `speed_kmh` or `speed_mps` are required (others ignored). Times strictly
 /// increasing, speeds finite and >= 0. Phases (optional) come from one comment line of the form
 ///   # Phases: Low 0-589, Medium 590-1022, High 1023-1477, Extra High 1478-1800.
-/// (name, start second, end second, ending at ". " or the line end; the form the UN GTR 15 tables and data/wltc_class3b.csv use). A phase
-/// [start, end] covers the times start <= t < next phase start (the last one up to its end).
+/// (name, start second, end second, ending at ". " or the line end; the form the UN GTR 15 tables and
+/// data/wltc_class3b.csv use). A phase [start, end] covers the times start <= t < next phase start (the last one up to
+/// its end).
 ///
 /// Interpolation: monotone piecewise cubic Hermite (Fritsch-Carlson, "PCHIP"). Between two samples the
 /// speed stays within their range (no overshoot, never negative), and the acceleration dv/dt is continuous

@@ -198,7 +198,8 @@ DriveStats writeDriveBag(const std::string& path, const SpeedProfile& profile, c
   info["distance_m"] = stats.distance_m;
   info["wheels"] = options.wheel_names;
   nlohmann::json phases = nlohmann::json::array();
-  for (const ProfilePhase& p : profile.phases()) phases.push_back({{"name", p.name}, {"start_s", p.start_s}, {"end_s", p.end_s}});
+  for (const ProfilePhase& p : profile.phases())
+    phases.push_back({{"name", p.name}, {"start_s", p.start_s}, {"end_s", p.end_s}});
   info["phases"] = phases;
   info["vehicle"] = vehicleJson(vehicle.params());
   std::map<std::string, int> event_counts;
@@ -258,7 +259,8 @@ DriveInfo readDriveBag(const std::string& path, const ReplayConfig& config, Driv
           info.json = nlohmann::json::parse(text->data);
           info.time_offset_s = info.json.value("time_offset_s", 0.0);
           for (const auto& p : info.json.value("phases", nlohmann::json::array()))
-            info.phases.push_back({p.at("name").get<std::string>(), p.at("start_s").get<double>(), p.at("end_s").get<double>()});
+            info.phases.push_back(
+                {p.at("name").get<std::string>(), p.at("start_s").get<double>(), p.at("end_s").get<double>()});
           info.present = true;
         } catch (const nlohmann::json::exception& e) {
           throw BagError(path + ": " + kDriveInfoTopic + " is not valid drive metadata: " + e.what());

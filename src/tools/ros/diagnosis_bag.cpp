@@ -53,11 +53,12 @@ RunTable readDiagnosisBag(const std::string& path) {
     throw std::runtime_error(path + ": no topic wheels/<name>/measured/mass (std_msgs/Float64 mass checkpoints)");
   const std::string prefix = "wheels/" + *wheels.begin() + "/";
   auto topic = [&](const char* name) { return prefix + name; };
-  const std::vector<std::string> topics = {topic("load"), topic("slip"), topic("speed"), topic("tread_temperature"),
-                                           topic("measured/side_force"), topic("measured/mass"), topic("measured/cycle"),
-                                           "/" + topic("load"), "/" + topic("slip"), "/" + topic("speed"),
-                                           "/" + topic("tread_temperature"), "/" + topic("measured/side_force"),
-                                           "/" + topic("measured/mass"), "/" + topic("measured/cycle")};
+  std::vector<std::string> topics;  // with and without the leading slash
+  for (const char* name : {"load", "slip", "speed", "tread_temperature", "measured/side_force", "measured/mass",
+                           "measured/cycle"}) {
+    topics.push_back(topic(name));
+    topics.push_back("/" + topic(name));
+  }
   auto ends = [](const std::string& t, const std::string& s) {
     return t.size() >= s.size() && t.compare(t.size() - s.size(), s.size(), s) == 0;
   };
@@ -120,7 +121,8 @@ RunTable readDiagnosisBag(const std::string& path) {
           if (!(seg.t > 0.0) || !(seg.distance > 0.0))
             throw std::runtime_error(where + ": no motion with all of load, slip and speed known");
           const double loss = mass - msg->data;
-          if (!(loss > 0.0)) throw std::runtime_error(where + ": the mass did not decrease (" + std::to_string(loss) + " kg)");
+          if (!(loss > 0.0))
+            throw std::runtime_error(where + ": the mass did not decrease (" + std::to_string(loss) + " kg)");
           RunRecord r;
           r.op.speed_mps = seg.speed / seg.t;
           r.op.slip_angle_rad = seg.alpha / seg.t;

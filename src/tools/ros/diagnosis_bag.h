@@ -7,7 +7,8 @@
 ///   wheels/<w>/slip               tread_wear/WheelSlip         node input
 ///   wheels/<w>/speed              tread_wear/WheelSpeed        node input
 ///   wheels/<w>/tread_temperature  tread_wear/TreadTemperature  node input (optional) = measured tread temperature
-///   wheels/<w>/measured/side_force geometry_msgs/WrenchStamped measured force on the tire, ISO axes (force.y = Fy) [N] (optional)
+///   wheels/<w>/measured/side_force geometry_msgs/WrenchStamped measured force on the tire, ISO axes (force.y = Fy)
+///                                                              [N] (optional)
 ///   wheels/<w>/measured/mass      std_msgs/Float64             tire mass checkpoint [kg] (weighing; >= 2 needed)
 ///   wheels/<w>/measured/cycle     std_msgs/Int32               surface cycle id from then on (optional; a message
 ///                                                              stamped at a checkpoint belongs to the next segment)

@@ -24,7 +24,8 @@ const char* const kUsage =
     "usage: tread_wear_replay IN.bag [--out OUT.bag] [--summary FILE.json] [--timeseries FILE.csv]\n"
     "                         [--preset fast|standard|fine|reference] [--wheels CONFIG.yaml] [--rate-hz HZ]\n"
     "                         [--out-rate-hz HZ] [--timeseries-rate-hz 1] [--threads N] [--quiet]\n"
-    "  --wheels   node configuration (wheels, tires, topics, update rate, preset) [default: config/vehicle_wheels.yaml]\n"
+    "  --wheels   node configuration (wheels, tires, topics, update rate, preset) [default: "
+    "config/vehicle_wheels.yaml]\n"
     "  --rate-hz  update rate, overrides the configuration's update_rate_hz [Hz]\n"
     "  --out-rate-hz  rate of the written wear messages [Hz] [default: every update]\n";
 
@@ -79,7 +80,8 @@ void showProgress(const std::atomic<std::uint64_t>& done, std::uint64_t total, c
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (tty) {
       const int width = 40, filled = static_cast<int>(f * width);
-      std::fprintf(stderr, "\rreplay [%s%s] %5.1f%% %6.1f s", std::string(static_cast<std::size_t>(filled), '#').c_str(),
+      std::fprintf(stderr, "\rreplay [%s%s] %5.1f%% %6.1f s",
+                   std::string(static_cast<std::size_t>(filled), '#').c_str(),
                    std::string(static_cast<std::size_t>(width - filled), ' ').c_str(), 100.0 * f, elapsed);
     } else if (static_cast<int>(f * 4) > last_quarter) {
       last_quarter = static_cast<int>(f * 4);
@@ -143,7 +145,8 @@ int main(int argc, char** argv) {
     std::atomic<std::uint64_t> done{0};
     std::atomic<bool> finished{false};
     std::thread bar;
-    if (!args.has("quiet")) bar = std::thread(showProgress, std::cref(done), replay.steps() * replay.wheelCount(), std::cref(finished));
+    if (!args.has("quiet"))
+      bar = std::thread(showProgress, std::cref(done), replay.steps() * replay.wheelCount(), std::cref(finished));
     replay.run(&done);
     const double cpu_s = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
     finished = true;
@@ -157,7 +160,8 @@ int main(int argc, char** argv) {
     if (info.present) json["drive"] = info.json;
     if (!out.empty()) {
       const double rate = config.settings.update_rate_hz;
-      const auto decimation = out_rate_hz > 0.0 ? static_cast<std::uint64_t>(std::llround(std::max(1.0, rate / out_rate_hz))) : 1;
+      const auto decimation =
+          out_rate_hz > 0.0 ? static_cast<std::uint64_t>(std::llround(std::max(1.0, rate / out_rate_hz))) : 1;
       tread_wear::writeWearBag(out, replay, config, decimation);
     }
     if (!timeseries_path.empty()) {

@@ -43,8 +43,8 @@ struct DiagnosisRun {
   double tread_temperature_c = std::numeric_limits<double>::quiet_NaN();  ///< recorded tread temperature [degC]
   double sliding_distance_m = std::numeric_limits<double>::quiet_NaN();   ///< L_s of this run (Eq 1) [m]
   double cumulative_sliding_m = std::numeric_limits<double>::quiet_NaN(); ///< at the middle of the run [m]
-  double measured[kNumOutputs] = {std::numeric_limits<double>::quiet_NaN(),
-                                  std::numeric_limits<double>::quiet_NaN()};  ///< Fy [N], W_r [kg/m]; NaN = not measured
+  /// Fy [N], W_r [kg/m]; NaN = not measured
+  double measured[kNumOutputs] = {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
   std::string condition;  ///< condition label (repeats share it)
   int cycle = -1;         ///< surface cycle (-1 = unknown)
   int run_order = -1;     ///< order in the campaign (-1 = unknown)

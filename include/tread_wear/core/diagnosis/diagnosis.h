@@ -75,7 +75,8 @@ struct LocatedEffect {
   bool categorical = false;
   double rho = 0.0;           ///< numeric: Spearman rho of the relative residual over the covariate [-]
   double slope = 0.0;         ///< numeric: OLS slope [1/unit of the covariate]
-  double effect = 0.0;        ///< numeric: slope times range; categorical: largest group difference [-] (0.05 = 5 points of error ratio)
+  /// numeric: slope times range; categorical: largest group difference [-] (0.05 = 5 points of error ratio)
+  double effect = 0.0;
   double eta_squared = 0.0;   ///< categorical: between-group share of variance [-]
   double p_value = 1.0;       ///< permutation p-value
   double p_adjusted = 1.0;    ///< Holm-adjusted
@@ -97,7 +98,8 @@ struct FittedModel {
   bool cv_done = false;
   double cv_rmser[kNumOutputs] = {0.0, 0.0};  ///< held out [-]
   double cv_score = 0.0;           ///< mean weighted held-out squared residual
-  std::vector<double> cv_run_loss; ///< per run: weighted held-out squared residuals summed over its outputs; NaN if none
+  /// per run: weighted held-out squared residuals summed over its outputs; NaN if none
+  std::vector<double> cv_run_loss;
   double p_vs_parent = 1.0;        ///< partial F test against the model it extends
   /// One-sided Wilcoxon signed-rank p of its per-run held-out losses against the parent's; computed for the best
   /// candidate of a step that extends an explanation (NaN otherwise)
