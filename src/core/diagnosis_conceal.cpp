@@ -153,8 +153,7 @@ ConcealCase concealEffect(const TireParams& base, const ConcealSpec& spec) {
     }
     ans.primary = info.parameters[info.primary].name;
     ans.primary_value = values[off + info.primary];
-    ans.primary_neutral = info.parameters[info.primary].neutral;
-    if (term == Term::kPressureFriction) ans.primary_neutral = base.friction.q;
+    ans.primary_neutral = primaryNeutral(term, base);
   }
   for (std::size_t j = 0; j < params.size(); ++j) ans.parameters[params[j].name] = values[j];
   Prediction pred;

@@ -330,10 +330,11 @@ class TermPower {
   double operator()(const std::vector<double>& term_values) const {
     ExtendedModelOptions model = options_.model;
     std::vector<Term> terms{term_};
-    if (term_ == Term::kTurnSlipOrientation) terms.clear();
-    if (term_ == Term::kTurnSlipOrientation)
+    if (term_ == Term::kTurnSlipOrientation) {
+      terms.clear();
       model.orientation = model.orientation == TurnSlipOrientation::kLiteral ? TurnSlipOrientation::kFlipped
                                                                              : TurnSlipOrientation::kLiteral;
+    }
     const ExtendedModel truth_model(base_, model, terms, data_);
     std::vector<double> values{w3_scale_, mu_scale_};
     values.insert(values.end(), term_values.begin(), term_values.end());
@@ -371,8 +372,7 @@ void searchLimit(const TireParams& base, const DiagnosisData& data, double w3_sc
   for (const TermParameterSpec& p : info.parameters) values.push_back(p.initial);
   const TermParameterSpec& size = info.parameters[info.primary];
   limit.parameter = size.name;
-  limit.neutral = size.neutral;
-  if (term == Term::kPressureFriction) limit.neutral = base.friction.q;
+  limit.neutral = primaryNeutral(term, base);
   if (term == Term::kThermalWear) {
     double coldest = std::numeric_limits<double>::infinity();
     for (const DiagnosisRun& r : data.runs) coldest = std::min(coldest, r.tread_temperature_c);

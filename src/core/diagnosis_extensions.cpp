@@ -73,6 +73,12 @@ bool neutralOnBound(const TermInfo& info) {
   return p.neutral == p.lower || p.neutral == p.upper;
 }
 
+double primaryNeutral(Term term, const TireParams& base) {
+  const TermInfo& info = termInfo(term);
+  if (info.primary < 0) return kNaN;
+  return term == Term::kPressureFriction ? base.friction.q : info.parameters[info.primary].neutral;
+}
+
 bool parseTerm(const std::string& name, Term* term) {
   for (const TermInfo& t : termLibrary())
     if (t.name == name) {

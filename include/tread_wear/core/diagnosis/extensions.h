@@ -75,6 +75,9 @@ const TermInfo& termInfo(Term term);
 /// Whether the term has a single parameter whose no-effect value is one of its bounds (the effect can only go
 /// one way: surface_polishing, lateral_compliance, load_fluctuation).
 bool neutralOnBound(const TermInfo& info);
+/// The value of the term's primary parameter at which it has no effect: its `neutral`, except pressure_friction's
+/// q, which is the parameter file's. NaN without one (sigma_T -> infinity, the orientation switch).
+double primaryNeutral(Term term, const TireParams& base);
 /// Library name to term; false for an unknown name.
 bool parseTerm(const std::string& name, Term* term);
 /// Whether the data can show the term (temperatures recorded, sequence known, load std recorded, turn slip
