@@ -127,6 +127,18 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
                   100.0 * result.base.cv_rmser[0], 100.0 * result.final_model.cv_rmser[0],
                   100.0 * result.base.cv_rmser[1], 100.0 * result.final_model.cv_rmser[1]);
     out << held_out;
+    if (result.explanation == "none")  // what the `none` rules out; every verdict has the table in report.md
+      for (const DetectionLimit& l : result.detection_limits) {
+        if (std::isnan(l.below) && std::isnan(l.above)) continue;
+        char line[200];
+        std::snprintf(line, sizeof(line), "would have found (power %.2g): %s %s", result.detection_power,
+                      l.term.c_str(), l.parameter.c_str());
+        out << line;
+        if (std::isfinite(l.below)) std::snprintf(line, sizeof(line), " <= %.3g", l.below), out << line;
+        if (std::isfinite(l.below) && std::isfinite(l.above)) out << " or";
+        if (std::isfinite(l.above)) std::snprintf(line, sizeof(line), " >= %.3g", l.above), out << line;
+        out << "\n";
+      }
     out << "report: " << (dir / "report.md").string() << "\n";
     return 0;
   } catch (const std::exception& ex) {

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 
 #include <filesystem>
 #include <functional>
@@ -380,4 +381,30 @@ TEST(DiagnosisCli, DocumentedExampleWritesTheReport) {
     EXPECT_NEAR(shift["relative"].get<double>(),
                 shift["after"].get<double>() / shift["before"].get<double>() - 1.0, 1e-12) << name;
   }
+}
+
+// A `none` prints what it rules out: each term's detection limits, as in diagnosis.json.
+TEST(DiagnosisCli, NoneSaysWhatItRulesOut) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(testing::TempDir()) / "tread_wear_diagnosis_none";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string runs = (dir / "runs.csv").string();
+  ASSERT_EQ(concealCli({"--params", kParams, "--effect", "none", "--design", "small", "--seed", "21", "--runs", runs,
+                        "--answer", (dir / "answer.json").string()})
+                .code,
+            0);
+  const CliResult r = diagnoseCli({"--params", kParams, "--runs", runs, "--report", (dir / "report").string(),
+                                   "--no-plots"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_NE(r.out.find("explanation: none\n"), std::string::npos) << r.out;
+  nlohmann::json j;
+  std::ifstream(dir / "report" / "diagnosis.json") >> j;
+  const nlohmann::json& offset = j["detection_limits"]["terms"]["sensor_offset"];
+  char expected[160];
+  std::snprintf(expected, sizeof(expected),
+                "would have found (power 0.8): sensor_offset side_force_offset_n <= %.3g or >= %.3g\n",
+                offset["below"].get<double>(), offset["above"].get<double>());
+  EXPECT_NE(r.out.find(expected), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find(": load_fluctuation"), std::string::npos) << "no limit, so no line: " << r.out;
 }
