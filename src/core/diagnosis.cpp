@@ -375,6 +375,19 @@ double fittedValue(const FittedModel& model, const std::string& name, double* st
   return kNaN;
 }
 
+DetectabilityOptions detectabilityOptions(const DiagnosisOptions& diagnosis, double wear_noise_rsd,
+                                          double side_force_noise_n) {
+  DetectabilityOptions d;
+  d.wear_noise_rsd = wear_noise_rsd;
+  d.side_force_noise_n = side_force_noise_n;
+  d.alpha_select = diagnosis.alpha_select;
+  d.min_aicc_drop = diagnosis.min_aicc_drop;
+  d.candidates = diagnosis.candidates;
+  d.model = diagnosis.model;
+  d.solver = diagnosis.solver;
+  return d;
+}
+
 DiagnosisResult diagnose(const TireParams& base, const DiagnosisData& data, const DiagnosisOptions& options) {
   std::string error;
   if (!options.validate(&error)) throw std::invalid_argument(error);
@@ -508,14 +521,10 @@ DiagnosisResult diagnose(const TireParams& base, const DiagnosisData& data, cons
   // 6. Detection limits at the noise the final model leaves.
   estimateNoise(data, current, &result.side_force_noise_n, &result.wear_noise_rsd);
   if (options.detection_power > 0.0) {
-    DetectabilityOptions d;
     // An output that is not measured has no residuals to weigh; any positive noise level will do.
-    d.side_force_noise_n = std::isfinite(result.side_force_noise_n) ? result.side_force_noise_n : 1.0;
-    d.wear_noise_rsd = std::isfinite(result.wear_noise_rsd) ? result.wear_noise_rsd : 1.0;
-    d.alpha_select = options.alpha_select;
-    d.candidates = pool;
-    d.model = options.model;
-    d.solver = options.solver;
+    const DetectabilityOptions d =
+        detectabilityOptions(options, std::isfinite(result.wear_noise_rsd) ? result.wear_noise_rsd : 1.0,
+                             std::isfinite(result.side_force_noise_n) ? result.side_force_noise_n : 1.0);
     result.detection_power = options.detection_power;
     result.detection_limits = detectionLimits(base, data, fittedValue(result.base, "w3_scale"),
                                               fittedValue(result.base, "mu_scale"), options.detection_power, d);

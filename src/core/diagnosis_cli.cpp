@@ -134,9 +134,14 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
         std::snprintf(line, sizeof(line), "would have found (power %.2g): %s %s", result.detection_power,
                       l.term.c_str(), l.parameter.c_str());
         out << line;
-        if (std::isfinite(l.below)) std::snprintf(line, sizeof(line), " <= %.3g", l.below), out << line;
-        if (std::isfinite(l.below) && std::isfinite(l.above)) out << " or";
-        if (std::isfinite(l.above)) std::snprintf(line, sizeof(line), " >= %.3g", l.above), out << line;
+        if (std::isfinite(l.below)) {
+          std::snprintf(line, sizeof(line), " <= %.3g", l.below);
+          out << line << (std::isfinite(l.above) ? " or" : "");
+        }
+        if (std::isfinite(l.above)) {
+          std::snprintf(line, sizeof(line), " >= %.3g", l.above);
+          out << line;
+        }
         out << "\n";
       }
     out << "report: " << (dir / "report.md").string() << "\n";

@@ -183,14 +183,8 @@ std::vector<HarnessOutcome> runHarness(const TireParams& base, const HarnessOpti
         const DiagnosisResult r = diagnose(base, data, dopt);
         o = scoreCase(cases[i], cc.answer, r);
         if (options.information && cases[i].spec.wear_noise_rsd > 0.0 && cases[i].spec.side_force_noise_n > 0.0) {
-          DetectabilityOptions d;
-          d.wear_noise_rsd = cases[i].spec.wear_noise_rsd;
-          d.side_force_noise_n = cases[i].spec.side_force_noise_n;
-          d.alpha_select = dopt.alpha_select;
-          d.min_aicc_drop = dopt.min_aicc_drop;
-          d.candidates = dopt.candidates;
-          d.model = dopt.model;
-          d.solver = dopt.solver;
+          const DetectabilityOptions d =
+              detectabilityOptions(dopt, cases[i].spec.wear_noise_rsd, cases[i].spec.side_force_noise_n);
           try {  // the case's verdict stands even when its reference cannot be computed
             o.reference = detectability(base, buildDiagnosisData(cc.noise_free), cases[i].spec.effect, d);
             o.information = true;

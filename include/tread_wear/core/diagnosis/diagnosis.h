@@ -140,6 +140,11 @@ struct DiagnosisResult {
   std::vector<std::string> log;                   ///< the selection steps in words
 };
 
+/// The detectability settings (detectability.h) that match a diagnosis's: its selection level, AICc drop, candidates,
+/// model and solver, at the given noise levels (relative wear RSD [-], side force [N]).
+DetectabilityOptions detectabilityOptions(const DiagnosisOptions& diagnosis, double wear_noise_rsd,
+                                          double side_force_noise_n);
+
 /// Runs the whole diagnosis. @throw std::invalid_argument for invalid options or parameters.
 DiagnosisResult diagnose(const TireParams& base, const DiagnosisData& data, const DiagnosisOptions& options);
 
