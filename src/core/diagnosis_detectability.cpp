@@ -30,6 +30,19 @@ int parameterCount(const std::vector<Term>& terms) {
   return p;
 }
 
+/// Whether the options ask for the term (no candidates: every term).
+bool wanted(const DetectabilityOptions& options, Term term) {
+  return options.candidates.empty() ||
+         std::find(options.candidates.begin(), options.candidates.end(), term) != options.candidates.end();
+}
+
+/// Level of the first-step F test of a term among `terms_tried` (Bonferroni), doubled for a term whose no-effect
+/// value is a bound (the boundary test: p / 2 < level while the estimate is off the bound).
+double firstStepLevel(Term term, double alpha_select, int terms_tried) {
+  const double level = alpha_select / std::max(1, terms_tried);
+  return neutralOnBound(termInfo(term)) ? 2.0 * level : level;
+}
+
 /// Measured values of the recordings (side force and wear, where recorded).
 int measuredValues(const DiagnosisData& data) {
   int n = 0;
@@ -233,12 +246,9 @@ Detectability detectability(const TireParams& base, const DiagnosisData& truth, 
   d.hidden = hidden;
   std::vector<Term> applicable;
   for (const TermInfo& info : termLibrary()) {
-    const bool wanted = options.candidates.empty() || std::find(options.candidates.begin(), options.candidates.end(),
-                                                                info.term) != options.candidates.end();
-    if (wanted && termApplicable(info.term, truth, nullptr)) applicable.push_back(info.term);
+    if (wanted(options, info.term) && termApplicable(info.term, truth, nullptr)) applicable.push_back(info.term);
   }
   d.terms_tried = static_cast<int>(applicable.size());
-  const double level = options.alpha_select / std::max(1, d.terms_tried);
 
   const Linearisation linearisation(base, truth, options);
   const int n = linearisation.measured();
@@ -262,17 +272,16 @@ Detectability detectability(const TireParams& base, const DiagnosisData& truth, 
     for (const LinearisedModel& m : candidates)
       if (m.terms.front() == hidden_term) d.parameters = m.parameters;
     const int k_term = parameterCount({hidden_term}) - base_model.k;
-    const bool one_sided = neutralOnBound(termInfo(hidden_term));
-    d.power = fTestPower(d.lambda, k_term, n - parameterCount({hidden_term}), one_sided ? 2.0 * level : level);
+    d.power = fTestPower(d.lambda, k_term, n - parameterCount({hidden_term}),
+                         firstStepLevel(hidden_term, options.alpha_select, d.terms_tried));
   }
 
   // The first selection step on noise draws. The F test's threshold as a critical value of the statistic:
   // p < level, or for a one-sided term p / 2 < level while its estimate is off the bound.
   std::vector<double> critical;
-  for (const LinearisedModel& m : candidates) {
-    const bool one_sided = neutralOnBound(termInfo(m.terms.front()));
-    critical.push_back(fCritical(m.k - base_model.k, n - m.k, one_sided ? 2.0 * level : level));
-  }
+  for (const LinearisedModel& m : candidates)
+    critical.push_back(
+        fCritical(m.k - base_model.k, n - m.k, firstStepLevel(m.terms.front(), options.alpha_select, d.terms_tried)));
   std::mt19937_64 rng(options.seed);
   std::normal_distribution<double> normal(0.0, 1.0);
   Eigen::VectorXd noise(n);
@@ -321,8 +330,7 @@ class TermPower {
       : base_(base), data_(data), w3_scale_(w3_scale), mu_scale_(mu_scale), term_(term), options_(options) {
     df1_ = parameterCount({term}) - parameterCount({});
     df2_ = measuredValues(data) - parameterCount({term});
-    const double level = options.alpha_select / std::max(1, terms_tried);
-    level_ = neutralOnBound(termInfo(term)) ? 2.0 * level : level;
+    level_ = firstStepLevel(term, options.alpha_select, terms_tried);
   }
 
   /// Power with the term's parameters at `term_values` and the base orientation (or, for the orientation switch,
@@ -427,9 +435,7 @@ std::vector<DetectionLimit> detectionLimits(const TireParams& base, const Diagno
   std::vector<Term> applicable;
   std::vector<DetectionLimit> limits;
   for (const TermInfo& info : termLibrary()) {
-    const bool wanted = options.candidates.empty() || std::find(options.candidates.begin(), options.candidates.end(),
-                                                                info.term) != options.candidates.end();
-    if (!wanted) continue;
+    if (!wanted(options, info.term)) continue;
     DetectionLimit limit;
     limit.term = info.name;
     if (termApplicable(info.term, data, &limit.note)) applicable.push_back(info.term);
