@@ -201,10 +201,10 @@ int runConcealCli(int argc, const char* const argv[], std::ostream& out, std::os
     const ConcealCase c = concealEffect(params, spec);
     nlohmann::json answer = answerJson(c.answer);
     if (information) {
-      DetectabilityOptions d;
-      d.wear_noise_rsd = spec.wear_noise_rsd;
-      d.side_force_noise_n = spec.side_force_noise_n;
-      d.model = spec.model;
+      // The settings the harness uses for the same case: a default diagnosis of this model.
+      DiagnosisOptions diagnosis;
+      diagnosis.model = spec.model;
+      const DetectabilityOptions d = detectabilityOptions(diagnosis, spec.wear_noise_rsd, spec.side_force_noise_n);
       const Detectability reference = detectability(params, buildDiagnosisData(c.noise_free), spec.effect, d);
       answer["detectability"] = detectabilityJson(reference);
       out << "detectability reference: lambda " << reference.lambda << ", F-test power " << reference.power
