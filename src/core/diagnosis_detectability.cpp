@@ -316,26 +316,44 @@ Detectability detectability(const TireParams& base, const DiagnosisData& truth, 
 
 namespace {
 
-/// Bisection steps of a detection limit: the bracket [d_min, d_max] spans up to 6 decades, so 12 halvings in ln d
-/// leave it within a factor of 1.01.
-constexpr int kLimitBisections = 12;
+/// Iterations of a detection limit's search (each a full nonlinear fit): the secant steps on sqrt(lambda), which is
+/// linear in the effect where the model is, need 2-6 on the rig programs; the bound is for the safeguard's
+/// bisections.
+constexpr int kLimitIterations = 40;
+/// A limit is found when sqrt(lambda) is within this of its target, i.e. the effect within about this of the limit
+/// where the model is linear in it [-].
+constexpr double kLimitTolerance = 1e-3;
+/// ... or when the bracket is this narrow (ratio of its ends) [-].
+constexpr double kLimitBracket = 1.001;
 /// Smallest effect searched, relative to the distance from the neutral value to the bound [-].
 constexpr double kSmallestRelativeEffect = 1e-6;
 
-/// The first-step F test's power against a truth of the base model plus one term at given parameter values.
-class TermPower {
+/// The noncentrality at which an F test with (df1, df2) at `level` has the given power (bisection on the power,
+/// which grows with lambda).
+double lambdaForPower(double power, double df1, double df2, double level) {
+  double lo = 0.0, hi = kCertainLambda;
+  for (int i = 0; i < 200 && hi - lo > 1e-9 * hi; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (fTestPower(mid, df1, df2, level) >= power ? hi : lo) = mid;
+  }
+  return hi;
+}
+
+/// The first-step F test of one term against a truth of the base model plus that term at given parameter values:
+/// its noncentrality, and the noncentrality at which it reaches a wanted power.
+class TermTest {
  public:
-  TermPower(const TireParams& base, const DiagnosisData& data, double w3_scale, double mu_scale, Term term,
-            const DetectabilityOptions& options, int terms_tried)
+  TermTest(const TireParams& base, const DiagnosisData& data, double w3_scale, double mu_scale, Term term,
+           const DetectabilityOptions& options, int terms_tried)
       : base_(base), data_(data), w3_scale_(w3_scale), mu_scale_(mu_scale), term_(term), options_(options) {
     df1_ = parameterCount({term}) - parameterCount({});
     df2_ = measuredValues(data) - parameterCount({term});
     level_ = firstStepLevel(term, options.alpha_select, terms_tried);
   }
 
-  /// Power with the term's parameters at `term_values` and the base orientation (or, for the orientation switch,
+  /// lambda with the term's parameters at `term_values` and the base orientation (or, for the orientation switch,
   /// the other one). NaN when the model cannot be evaluated there.
-  double operator()(const std::vector<double>& term_values) const {
+  double lambda(const std::vector<double>& term_values) const {
     ExtendedModelOptions model = options_.model;
     std::vector<Term> terms{term_};
     if (term_ == Term::kTurnSlipOrientation) {
@@ -352,9 +370,11 @@ class TermPower {
     for (std::size_t i = 0; i < truth.runs.size(); ++i)
       for (int o = 0; o < kNumOutputs; ++o)
         if (std::isfinite(truth.runs[i].measured[o])) truth.runs[i].measured[o] = pred.value(static_cast<Output>(o), i);
-    const double lambda = Linearisation(base_, truth, options_).baseLambda();
-    return fTestPower(lambda, df1_, df2_, level_);
+    return Linearisation(base_, truth, options_).baseLambda();
   }
+
+  double power(double lambda) const { return fTestPower(lambda, df1_, df2_, level_); }
+  double lambdaFor(double power) const { return lambdaForPower(power, df1_, df2_, level_); }
 
  private:
   const TireParams& base_;
@@ -369,10 +389,10 @@ class TermPower {
 void searchLimit(const TireParams& base, const DiagnosisData& data, double w3_scale, double mu_scale, double power,
                  const DetectabilityOptions& options, int terms_tried, Term term, DetectionLimit* limit_out) {
   DetectionLimit& limit = *limit_out;
-  const TermPower power_at(base, data, w3_scale, mu_scale, term, options, terms_tried);
+  const TermTest test(base, data, w3_scale, mu_scale, term, options, terms_tried);
   const TermInfo& info = termInfo(term);
   if (info.primary < 0) {
-    limit.switch_power = power_at({});
+    limit.switch_power = test.power(test.lambda({}));
     return;
   }
   // The term's parameters at their start values, with thermal_wear's T0 at the coldest run.
@@ -386,6 +406,8 @@ void searchLimit(const TireParams& base, const DiagnosisData& data, double w3_sc
     for (const DiagnosisRun& r : data.runs) coldest = std::min(coldest, r.tread_temperature_c);
     values[0] = coldest;
   }
+  // The power grows with lambda, so the limit is where sqrt(lambda) reaches its value at the wanted power.
+  const double target = std::sqrt(test.lambdaFor(power));
   // An effect of size d > 0 on side s: the parameter neutral + s d (sigma_T = 1 / d: the effect grows as
   // sigma_T falls).
   const bool reciprocal = std::isnan(limit.neutral);
@@ -396,25 +418,47 @@ void searchLimit(const TireParams& base, const DiagnosisData& data, double w3_sc
     double d_max = reciprocal ? 1.0 / size.lower : side * (bound - limit.neutral);
     if (!(d_max > 0.0)) continue;  // the neutral value is this bound: the effect goes one way only
     const double d_min = reciprocal ? 1.0 / size.upper : kSmallestRelativeEffect * d_max;
-    auto power_of = [&](double d) {
+    // sqrt(lambda) - target at effect d (NaN where the model does not evaluate).
+    auto excess = [&](double d) {
       values[info.primary] = reciprocal ? 1.0 / d : limit.neutral + side * d;
-      return power_at(values);
+      return std::sqrt(test.lambda(values)) - target;
     };
     // The model may not evaluate out to the bound (e.g. a large load std reaches zero load): shrink to where it does.
-    double p_max = power_of(d_max);
-    for (int i = 0; i < 20 && std::isnan(p_max) && d_max > 2.0 * d_min; ++i) p_max = power_of(d_max *= 0.5);
-    if (!(p_max >= power)) {
+    double f_hi = excess(d_max);
+    for (int i = 0; i < 20 && std::isnan(f_hi) && d_max > 2.0 * d_min; ++i) f_hi = excess(d_max *= 0.5);
+    if (!(f_hi >= 0.0)) {
       char text[160];
       std::snprintf(text, sizeof(text), "%s: power %.2f at most, at %s = %.4g",
-                    side < 0 ? "below" : "above", std::isnan(p_max) ? 0.0 : p_max, size.name.c_str(),
-                    values[info.primary]);
+                    side < 0 ? "below" : "above", std::isnan(f_hi) ? 0.0 : test.power(std::pow(f_hi + target, 2)),
+                    size.name.c_str(), values[info.primary]);
       notes.push_back(text);
       continue;
     }
-    double lo = d_min, hi = d_max;
-    for (int i = 0; i < kLimitBisections; ++i) {
-      const double mid = std::sqrt(lo * hi);
-      (power_of(mid) >= power ? hi : lo) = mid;
+    // Regula falsi (Illinois) on sqrt(lambda), which is linear in d where the model is, from the bracket
+    // [0, d_max] (d = 0: no effect, lambda = 0), until an effect is within the tolerance of the target (it is then
+    // the limit) or the bracket is that narrow (the upper end is). A step that leaves the bracket is replaced by a
+    // bisection (in ln d once the lower end is > 0). A NaN counts as below the limit: it can only make it larger.
+    double lo = 0.0, f_lo = -target, hi = d_max;
+    int replaced = 0;  // which end the last step replaced: -1 lo, +1 hi
+    for (int i = 0; i < kLimitIterations && hi > kLimitBracket * lo && hi > d_min; ++i) {
+      double d = lo - f_lo * (hi - lo) / (f_hi - f_lo);
+      if (!(d > lo && d < hi)) d = lo > 0.0 ? std::sqrt(lo * hi) : 0.5 * hi;
+      d = std::max(d, d_min);
+      const double f = excess(d);
+      if (std::abs(f) <= kLimitTolerance * target) {
+        hi = d;
+        break;
+      }
+      if (f > 0.0) {
+        hi = d, f_hi = f;
+        if (replaced == 1) f_lo *= 0.5;  // Illinois: an end kept twice has its value halved
+        replaced = 1;
+      } else {
+        lo = d;
+        if (!std::isnan(f)) f_lo = f;
+        if (replaced == -1) f_hi *= 0.5;
+        replaced = -1;
+      }
     }
     (side < 0 ? limit.below : limit.above) = reciprocal ? 1.0 / hi : limit.neutral + side * hi;
   }
