@@ -226,7 +226,9 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
       << " side force, " << (std::isfinite(r.wear_noise_rsd) ? pct(r.wear_noise_rsd) : std::string("not measured:"))
       << " wear). Effects beyond these "
       << "values would have been found that often; smaller ones can hide in these recordings"
-      << (r.explanation == "none" ? ", so `none` rules out only the larger ones" : "") << ".\n\n";
+      << (r.explanation == "none" ? ", so `none` rules out only the larger ones" : "")
+      << ". Found means that the step's F test flags the term against the base model; near its limit a term can "
+         "still lose to a look-alike that fits about as well (a small gain to an offset).\n\n";
     m << "| term | parameter | no effect at | detectable below | detectable above | note |\n"
          "|---|---|---|---|---|---|\n";
     for (const DetectionLimit& l : r.detection_limits) {
