@@ -131,7 +131,7 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
       for (const DetectionLimit& l : result.detection_limits) {
         if (std::isnan(l.below) && std::isnan(l.above)) continue;
         char line[200];
-        std::snprintf(line, sizeof(line), "would have found (power %.2g): %s %s", result.detection_power,
+        std::snprintf(line, sizeof(line), "would have found (power %g): %s %s", result.detection_power,
                       l.term.c_str(), l.parameter.c_str());
         out << line;
         if (std::isfinite(l.below)) {

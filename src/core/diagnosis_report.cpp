@@ -221,7 +221,7 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
   if (!r.detection_limits.empty()) {
     m << "\n## What these recordings could have shown\n\n";
     m << "The smallest effect of each term that the first selection step would find with probability "
-      << g(r.detection_power, 2) << ", added to the calibrated base model, at the noise the final model leaves ("
+      << g(r.detection_power, 6) << ", added to the calibrated base model, at the noise the final model leaves ("
       << (std::isfinite(r.side_force_noise_n) ? g(r.side_force_noise_n, 3) + " N" : std::string("not measured:"))
       << " side force, " << (std::isfinite(r.wear_noise_rsd) ? pct(r.wear_noise_rsd) : std::string("not measured:"))
       << " wear). Effects beyond these "
