@@ -18,6 +18,13 @@ void checkPaired(std::size_t nx, std::size_t ny, const char* what) {
 
 double mean(const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0) / v.size(); }
 
+/// ln Gamma(x) for x > 0. std::lgamma also writes the sign to the global `signgam` (POSIX: MT-unsafe), a data race
+/// when diagnoses run in parallel (the harness's --jobs; found by ThreadSanitizer); lgamma_r returns it instead.
+double lnGamma(double x) {
+  int sign = 0;
+  return ::lgamma_r(x, &sign);
+}
+
 /// Between-group sum of squares of y for labels 0..G-1.
 double betweenGroupSS(const std::vector<int>& labels, const std::vector<double>& y, int groups, double grand_mean,
                       std::vector<double>* sums, std::vector<int>* counts) {
@@ -196,7 +203,7 @@ double regularizedIncompleteBeta(double a, double b, double x) {
   if (x == 0.0 || x == 1.0) return x;
   // Symmetry I_x(a,b) = 1 - I_{1-x}(b,a) keeps the continued fraction in its fast-converging region.
   if (x > (a + 1.0) / (a + b + 2.0)) return 1.0 - regularizedIncompleteBeta(b, a, 1.0 - x);
-  const double ln_front = std::lgamma(a + b) - std::lgamma(a) - std::lgamma(b) + a * std::log(x) +
+  const double ln_front = lnGamma(a + b) - lnGamma(a) - lnGamma(b) + a * std::log(x) +
                           b * std::log1p(-x);
   // Modified Lentz evaluation of the continued fraction (Numerical Recipes, betacf).
   const double tiny = 1e-300;
