@@ -1,0 +1,156 @@
+// Corrupt files: seeded random mutations of valid inputs (bytes flipped, spans deleted or repeated, tokens such
+// as "nan", "," or "{" inserted, the file cut short) are either read as valid data or rejected with a
+// std::exception that names the file; never a crash, another exception type or invalid data let through. Under
+// scripts/run_sanitizers.sh this also checks every parser for memory errors on such input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <random>
+#include <sstream>
+#include <string>
+
+#include "temp_file.h"
+#include "tread_wear/core/conditions_csv.h"
+#include "tread_wear/core/diagnosis/data.h"
+#include "tread_wear/core/params_io.h"
+#include "tread_wear/core/run_table.h"
+#include "tread_wear/core/state_store.h"
+
+namespace tread_wear {
+namespace {
+
+constexpr int kMutants = 2000;
+
+std::string readFile(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+/// 1-4 random edits of `text`.
+std::string mutate(std::string text, std::mt19937* rng) {
+  static const char* const kTokens[] = {",", "\n", "nan", "inf", "-1", "1e308", "#", "\"", ":", "- ",
+                                        "{",  "}",  "[",   "]",   "0",  " ",     "\t", "\r\n", "1e-320", "-0"};
+  auto pick = [&](std::size_t n) { return static_cast<std::size_t>((*rng)() % n); };
+  const int edits = 1 + static_cast<int>(pick(4));
+  for (int i = 0; i < edits && !text.empty(); ++i) {
+    const std::size_t at = pick(text.size());
+    switch (pick(5)) {
+      case 0: text[at] = static_cast<char>(pick(256)); break;
+      case 1: text.erase(at, 1 + pick(20)); break;
+      case 2: text.insert(at, kTokens[pick(sizeof(kTokens) / sizeof(kTokens[0]))]); break;
+      case 3: text.insert(at, text.substr(pick(text.size()), 1 + pick(40))); break;
+      default: text.resize(at); break;
+    }
+  }
+  return text;
+}
+
+struct Outcome {
+  int accepted = 0;
+  int rejected = 0;
+};
+
+/// Feeds kMutants mutants of `valid` to `read`, which returns normally for data it accepts (and checks them) or
+/// throws; a rejection must be a std::exception whose message contains `name_in_message`.
+Outcome mutants(const std::string& valid, unsigned seed, const std::string& name_in_message,
+                const std::function<void(const std::string&)>& read) {
+  std::mt19937 rng(seed);
+  Outcome o;
+  for (int i = 0; i < kMutants; ++i) {
+    const std::string text = mutate(valid, &rng);
+    try {
+      read(text);
+      ++o.accepted;
+    } catch (const std::exception& e) {
+      ++o.rejected;
+      EXPECT_NE(std::string(e.what()).find(name_in_message), std::string::npos)
+          << "mutant " << i << ": '" << e.what() << "' does not name " << name_in_message;
+    } catch (...) {
+      ADD_FAILURE() << "mutant " << i << ": an exception that is not a std::exception";
+    }
+  }
+  return o;
+}
+
+TEST(CorruptInputs, RunTables) {
+  const std::string valid = readFile("examples/diagnosis/polishing_runs.csv");
+  ASSERT_FALSE(valid.empty());
+  int diagnosable = 0;
+  const Outcome o = mutants(valid, 1, ".csv", [&](const std::string& text) {
+    const TempFile file(text, ".csv");
+    const RunTable table = readRunTable(file.path());
+    std::string error;
+    for (const RunRecord& r : table.runs) EXPECT_TRUE(r.op.validate(&error)) << error;
+    try {  // a table the reader accepts may still lack what a diagnosis needs; that is a named error too
+      diagnosis::buildDiagnosisData(table);
+      ++diagnosable;
+    } catch (const std::exception& e) {
+      EXPECT_NE(std::string(e.what()), "");
+    }
+  });
+  EXPECT_GT(o.accepted, 0);
+  EXPECT_GT(o.rejected, 0);
+  EXPECT_GT(diagnosable, 0);
+}
+
+TEST(CorruptInputs, TireParameterFiles) {
+  const std::string valid = readFile("config/tires/grosch_wheel.yaml");
+  ASSERT_FALSE(valid.empty());
+  const Outcome o = mutants(valid, 2, ".yaml", [](const std::string& text) {
+    const TempFile file(text, ".yaml");
+    const TireParams p = loadTireParams(file.path());
+    std::string error;
+    EXPECT_TRUE(p.validate(&error)) << error;
+  });
+  EXPECT_GT(o.accepted, 0);
+  EXPECT_GT(o.rejected, 0);
+}
+
+TEST(CorruptInputs, ConditionTables) {
+  const std::string valid =
+      "speed_mps,slip_angle_rad,slip_ratio,path_radius_m,load_n\n2,0.1,0,0,75\n20,0.05,-0.1,50,4000\n"
+      "0.5,0,0.2,,100\n\"3\",0.2,0.01,-20,60\n";
+  const Outcome o = mutants(valid, 3, "mutant.csv", [](const std::string& text) {
+    std::istringstream in(text);
+    const ConditionsTable t = readConditions(in, "mutant.csv");
+    std::string error;
+    for (const OperatingPoint& p : t.points) EXPECT_TRUE(p.validate(&error)) << error;
+  });
+  EXPECT_GT(o.accepted, 0);
+  EXPECT_GT(o.rejected, 0);
+}
+
+// The node's state file: what it cannot use is reported (fromJson false with a reason), never loaded as
+// non-finite or negative accumulated values.
+TEST(CorruptInputs, StateFiles) {
+  StateFile state;
+  state.saved_unix_s = 1.79e9;
+  state.wheels = {{"front_left", "tire-a", 1.5e-4, 12345.6, 1.7e9}, {"rear_left", "", 0.0, 0.0, 0.0}};
+  const std::string valid = StateStore::toJson(state);
+  std::mt19937 rng(4);
+  int accepted = 0, rejected = 0;
+  for (int i = 0; i < kMutants; ++i) {
+    StateFile loaded;
+    std::string error;
+    bool incompatible = false;
+    if (StateStore::fromJson(mutate(valid, &rng), &loaded, &error, &incompatible)) {
+      ++accepted;
+      for (const WheelRecord& w : loaded.wheels) {
+        EXPECT_TRUE(std::isfinite(w.accumulated_loss_kg) && w.accumulated_loss_kg >= 0.0) << w.accumulated_loss_kg;
+        EXPECT_TRUE(std::isfinite(w.distance_m) && w.distance_m >= 0.0) << w.distance_m;
+      }
+    } else {
+      ++rejected;
+      EXPECT_FALSE(error.empty()) << "mutant " << i;
+    }
+  }
+  EXPECT_GT(accepted, 0);
+  EXPECT_GT(rejected, 0);
+}
+
+}  // namespace
+}  // namespace tread_wear
