@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <exception>
+#include <mutex>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
@@ -35,6 +37,8 @@ bool ReplaySettings::validate(std::string* error) const {
     os << "update_rate_hz = " << update_rate_hz << ": must be finite and > 0";
   } else if (threads < 1) {
     os << "threads = " << threads << ": must be >= 1";
+  } else if (!(max_span_s > 0.0) || !std::isfinite(max_span_s)) {
+    os << "max_span_s = " << max_span_s << ": must be finite and > 0";
   } else {
     std::string sub;
     if (!model.validate(&sub)) os << "model." << sub;
@@ -89,16 +93,39 @@ std::uint64_t DriveReplay::steps() const {
 }
 
 void DriveReplay::run(std::atomic<std::uint64_t>* progress) {
+  if (steps() > 0 && t_end_ - t0_ > settings_.max_span_s) {
+    double gap = 0.0, gap_at = t0_;
+    for (const auto& r : runs_)
+      for (std::size_t i = 1; i < r->samples.size(); ++i)
+        if (r->samples[i].t_s - r->samples[i - 1].t_s > gap) {
+          gap = r->samples[i].t_s - r->samples[i - 1].t_s;
+          gap_at = r->samples[i - 1].t_s;
+        }
+    std::ostringstream os;
+    os << "replay: the samples span " << t_end_ - t0_ << " s of bag time (" << t0_ << " to " << t_end_
+       << " s), more than max_span_s = " << settings_.max_span_s << " s; the largest gap between a wheel's samples is "
+       << gap << " s after t = " << gap_at << " s (a corrupt time stamp?)";
+    throw std::runtime_error(os.str());
+  }
   const auto start = std::chrono::steady_clock::now();
   std::atomic<int> next{0};
+  std::exception_ptr failure;
+  std::mutex failure_mutex;
   auto worker = [&]() {
-    for (int w = next++; w < wheelCount(); w = next++) runWheel(w, progress);
+    try {
+      for (int w = next++; w < wheelCount(); w = next++) runWheel(w, progress);
+    } catch (...) {
+      next = wheelCount();  // the others stop after their current wheel
+      const std::lock_guard<std::mutex> lock(failure_mutex);
+      if (!failure) failure = std::current_exception();
+    }
   };
   const int n_threads = std::min(settings_.threads, wheelCount());
   std::vector<std::thread> pool;
   for (int i = 1; i < n_threads; ++i) pool.emplace_back(worker);
   worker();
   for (std::thread& t : pool) t.join();
+  if (failure) std::rethrow_exception(failure);
   wall_time_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 

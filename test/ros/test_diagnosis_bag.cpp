@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
 
@@ -170,6 +172,28 @@ TEST(DiagnosisBag, MalformedBagsNameTheProblem) {
   standstill.inputs(kT0, 0.0, -0.17, 75.0, 40.0);
   standstill.mass(kT0 + 10.0, 0.1 - 1e-6);
   EXPECT_NE(errorOf(standstill.close()).find("no motion"), std::string::npos);
+
+  // A record inside a chunk whose header length runs past the chunk (rosbag would read past its buffer): the
+  // first record of the first chunk, whose data start after the chunk header's last field, size=<uint32>, and the
+  // record's data length (rosbag 2.0 writes the header fields in name order: compression, op, size).
+  DiagnosisBagWriter corrupt("diagnosis_corrupt_chunk.bag");
+  corrupt.mass(kT0, 0.1);
+  corrupt.inputs(kT0, 2.0, -0.17, 75.0, 40.0);
+  corrupt.mass(kT0 + 10.0, 0.1 - 1e-6);
+  const std::string corrupt_path = corrupt.close();
+  {
+    std::fstream f(corrupt_path, std::ios::in | std::ios::out | std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(f)), {});
+    const std::size_t size_field = bytes.find("size=", bytes.find("compression=none"));
+    ASSERT_NE(size_field, std::string::npos);
+    f.seekp(static_cast<std::streamoff>(size_field + 5 + 4 + 4));
+    f.write("\xff\xff\xff\x7f", 4);
+  }
+  const std::string corrupt_error = errorOf(corrupt_path);
+  EXPECT_NE(corrupt_error.find(corrupt_path + ": bag data unreadable (corrupt): record header of 2147483647 bytes past "
+                               "the end of its chunk"),
+            std::string::npos)
+      << corrupt_error;
 
   DiagnosisBagWriter no_load("diagnosis_no_load.bag");
   no_load.mass(kT0, 0.1);

@@ -33,6 +33,10 @@ struct ReplaySettings {
   WearModelOptions model;         ///< preset, turn-slip orientation, low-speed threshold
   WheelEstimatorParams estimator;  ///< staleness, time jumps, input limits
   int threads = 2;                ///< worker threads (one wheel per thread at a time), >= 1
+  /// Longest bag time span replayed [s], > 0. Every wheel's step records are allocated for the whole span (6 h at
+  /// 100 Hz: about 1 GB for 4 wheels), so one corrupt time stamp must not ask for terabytes: run() refuses a
+  /// longer span with an error that names the largest gap between a wheel's samples.
+  double max_span_s = 6.0 * 3600.0;
 
   bool validate(std::string* error) const;
 };
@@ -96,6 +100,8 @@ class DriveReplay {
   std::size_t sampleCount(int wheel) const;
 
   /// Runs all steps. progress (optional) counts finished wheel-steps, out of steps() * wheelCount().
+  /// @throw std::runtime_error when the samples span more than max_span_s; an exception of a wheel's thread is
+  /// rethrown here once every thread has finished
   void run(std::atomic<std::uint64_t>* progress = nullptr);
   std::uint64_t steps() const;
   double stepTime(std::uint64_t k) const { return t0_ + static_cast<double>(k) / settings_.update_rate_hz; }

@@ -5,9 +5,11 @@
 #include <std_msgs/String.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <string_view>
 
 #include "tread_wear/TreadTemperature.h"
 #include "tread_wear/VehicleWear.h"
@@ -20,6 +22,55 @@
 namespace tread_wear {
 
 namespace {
+
+// rosbag 2.0 records: uint32 header length, header fields (each uint32 length + "name=value"), uint32 data
+// length, data; all integers little-endian. The "op" field tells the record type.
+constexpr char kOpMessageDefinition = 0x01, kOpMessageData = 0x02, kOpIndexData = 0x04, kOpChunk = 0x05,
+               kOpConnection = 0x07;
+constexpr std::size_t kVersionLineBytes = 13;  // "#ROSBAG V2.0\n"
+
+std::uint64_t littleEndian(const char* p, int bytes) {
+  std::uint64_t v = 0;
+  for (int i = bytes - 1; i >= 0; --i) v = (v << 8) | static_cast<unsigned char>(p[i]);
+  return v;
+}
+
+/// A record found in `bytes[0, size)` at `pos`: the header fields this check needs, and where its data lie.
+struct Record {
+  char op = 0;
+  std::string_view compression, size;  ///< chunk header fields (views into the bytes)
+  std::uint64_t data_pos = 0, data_len = 0, end = 0;
+};
+
+/// Parses the record at `pos` of `bytes[0, size)`; an empty string, or what runs past the end or is malformed.
+std::string parseRecord(const char* bytes, std::uint64_t size, std::uint64_t pos, Record* r) {
+  if (size - pos < 4) return "record header length past the end";
+  const std::uint64_t header_len = littleEndian(bytes + pos, 4);
+  if (header_len > size - pos - 4) return "record header of " + std::to_string(header_len) + " bytes past the end";
+  std::uint64_t at = pos + 4;
+  const std::uint64_t header_end = at + header_len;
+  *r = Record();
+  while (at < header_end) {
+    if (header_end - at < 4) return "header field length past the header";
+    const std::uint64_t field_len = littleEndian(bytes + at, 4);
+    at += 4;
+    if (field_len > header_end - at) return "header field of " + std::to_string(field_len) + " bytes past the header";
+    const std::string_view field(bytes + at, field_len);
+    const auto eq = field.find('=');
+    if (eq == std::string_view::npos) return "header field without '='";
+    const std::string_view name = field.substr(0, eq), value = field.substr(eq + 1);
+    if (name == "op" && value.size() == 1) r->op = value[0];
+    if (name == "compression") r->compression = value;
+    if (name == "size") r->size = value;
+    at += field_len;
+  }
+  if (size - header_end < 4) return "record data length past the end";
+  r->data_len = littleEndian(bytes + header_end, 4);
+  r->data_pos = header_end + 4;
+  if (r->data_len > size - r->data_pos) return "record data of " + std::to_string(r->data_len) + " bytes past the end";
+  r->end = r->data_pos + r->data_len;
+  return "";
+}
 
 std::string absoluteTopic(const std::string& topic) { return topic.empty() || topic[0] == '/' ? topic : "/" + topic; }
 
@@ -215,6 +266,50 @@ DriveStats writeDriveBag(const std::string& path, const SpeedProfile& profile, c
   return stats;
 }
 
+void checkChunkRecords(const std::string& path) {
+  std::ifstream file(path, std::ios::binary | std::ios::ate);
+  std::vector<char> bytes(file ? static_cast<std::size_t>(file.tellg()) : 0);
+  if (!file || !file.seekg(0).read(bytes.data(), static_cast<std::streamsize>(bytes.size())))
+    throw BagError(path + ": cannot read the bag");
+  const std::uint64_t size = bytes.size();
+  auto corrupt = [&](const std::string& what, std::uint64_t at) {
+    return BagError(path + ": bag data unreadable (corrupt): " + what + " at byte " + std::to_string(at));
+  };
+  // Record starts of the last uncompressed chunk (relative to its data, ascending) with their ops.
+  std::vector<std::pair<std::uint64_t, char>> chunk_records;
+  bool chunk_checked = false;
+  Record r;
+  for (std::uint64_t pos = kVersionLineBytes; pos < size; pos = r.end) {
+    const std::string error = parseRecord(bytes.data(), size, pos, &r);
+    if (!error.empty()) throw corrupt(error, pos);
+    if (r.op == kOpChunk) {
+      chunk_records.clear();
+      chunk_checked = r.compression == "none";
+      if (!chunk_checked) continue;
+      if (r.size.size() != 4 || littleEndian(r.size.data(), 4) != r.data_len)
+        throw corrupt("uncompressed chunk whose size field differs from its data length", pos);
+      Record inner;
+      for (std::uint64_t at = 0; at < r.data_len; at = inner.end) {
+        const std::string inner_error = parseRecord(bytes.data() + r.data_pos, r.data_len, at, &inner);
+        if (!inner_error.empty()) throw corrupt(inner_error + " of its chunk", r.data_pos + at);
+        chunk_records.emplace_back(at, inner.op);
+      }
+    } else if (r.op == kOpIndexData && chunk_checked) {
+      if (r.data_len % 12 != 0) throw corrupt("index data not a whole number of entries", pos);
+      for (std::uint64_t e = 0; e < r.data_len; e += 12) {
+        const std::uint64_t offset = littleEndian(bytes.data() + r.data_pos + e + 8, 4);
+        // rosbag reads from the entry's record on, past connection and definition records, to a message.
+        auto it = std::lower_bound(chunk_records.begin(), chunk_records.end(), std::make_pair(offset, char{0}));
+        if (it != chunk_records.end() && it->first != offset) it = chunk_records.end();
+        while (it != chunk_records.end() && (it->second == kOpConnection || it->second == kOpMessageDefinition)) ++it;
+        if (it == chunk_records.end() || it->second != kOpMessageData)
+          throw corrupt("index entry pointing at no message of its chunk (offset " + std::to_string(offset) + ")",
+                        r.data_pos + e);
+      }
+    }
+  }
+}
+
 DriveInfo readDriveBag(const std::string& path, const ReplayConfig& config, DriveReplay* replay) {
   {
     std::ifstream probe(path);
@@ -227,6 +322,7 @@ DriveInfo readDriveBag(const std::string& path, const ReplayConfig& config, Driv
   } catch (const rosbag::BagException& e) {
     throw BagError(path + ": not a readable bag (corrupt, truncated or unindexed: try `rosbag reindex`): " + e.what());
   }
+  checkChunkRecords(path);
   try {
     std::map<std::string, const rosbag::ConnectionInfo*> connections;
     rosbag::View all(bag);

@@ -11,6 +11,7 @@
 #include <std_msgs/Float64.h>
 #include <std_msgs/Int32.h>
 
+#include "bag_io.h"
 #include <tread_wear/TreadTemperature.h>
 #include <tread_wear/WheelLoad.h>
 #include <tread_wear/WheelSlip.h>
@@ -36,6 +37,7 @@ RunTable readDiagnosisBag(const std::string& path) {
   } catch (const std::exception& e) {
     throw std::runtime_error(path + ": cannot open the bag: " + e.what());
   }
+  checkChunkRecords(path);
   std::set<std::string> wheels;
   {
     rosbag::View all(bag);

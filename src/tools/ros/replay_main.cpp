@@ -23,11 +23,13 @@ namespace {
 const char* const kUsage =
     "usage: tread_wear_replay IN.bag [--out OUT.bag] [--summary FILE.json] [--timeseries FILE.csv]\n"
     "                         [--preset fast|standard|fine|reference] [--wheels CONFIG.yaml] [--rate-hz HZ]\n"
-    "                         [--out-rate-hz HZ] [--timeseries-rate-hz 1] [--threads N] [--quiet]\n"
+    "                         [--out-rate-hz HZ] [--timeseries-rate-hz 1] [--threads N] [--max-span-s 21600]\n"
+    "                         [--quiet]\n"
     "  --wheels   node configuration (wheels, tires, topics, update rate, preset) [default: "
     "config/vehicle_wheels.yaml]\n"
     "  --rate-hz  update rate, overrides the configuration's update_rate_hz [Hz]\n"
-    "  --out-rate-hz  rate of the written wear messages [Hz] [default: every update]\n";
+    "  --out-rate-hz  rate of the written wear messages [Hz] [default: every update]\n"
+    "  --max-span-s   longest bag time span replayed [s] (a longer one is refused as a likely corrupt time stamp)\n";
 
 void writeSummary(const std::string& path, const nlohmann::json& summary) {
   if (path.empty()) return;
@@ -102,7 +104,7 @@ int main(int argc, char** argv) {
   std::string error;
   if (!args.parse(argc, argv,
                   {"out", "summary", "timeseries", "preset", "wheels", "rate-hz", "out-rate-hz", "timeseries-rate-hz",
-                   "threads"},
+                   "threads", "max-span-s"},
                   {"quiet"}, &error, 1))
     return usage_error(error);
   if (args.help()) {
@@ -110,13 +112,16 @@ int main(int argc, char** argv) {
     return 0;
   }
   double rate_hz = 0.0, out_rate_hz = 0.0, timeseries_rate_hz = 1.0;  // 0 = the configuration's / every update
+  double max_span_s = tread_wear::ReplaySettings().max_span_s;
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   if (!args.number("rate-hz", &rate_hz, &error) || !args.number("out-rate-hz", &out_rate_hz, &error) ||
-      !args.number("timeseries-rate-hz", &timeseries_rate_hz, &error) || !args.integer("threads", &threads, &error))
+      !args.number("timeseries-rate-hz", &timeseries_rate_hz, &error) || !args.integer("threads", &threads, &error) ||
+      !args.number("max-span-s", &max_span_s, &error))
     return usage_error(error);
   if (args.positional().empty()) return usage_error("the input bag is required");
   const std::pair<const char*, double> rates[] = {
-      {"rate-hz", rate_hz}, {"out-rate-hz", out_rate_hz}, {"timeseries-rate-hz", timeseries_rate_hz}};
+      {"rate-hz", rate_hz}, {"out-rate-hz", out_rate_hz}, {"timeseries-rate-hz", timeseries_rate_hz},
+      {"max-span-s", max_span_s}};
   for (const auto& [name, value] : rates)
     if (args.has(name) && !(value > 0.0)) return usage_error(std::string("--") + name + " must be > 0");
   if (threads < 1) return usage_error("--threads must be >= 1");
@@ -136,6 +141,7 @@ int main(int argc, char** argv) {
     if (rate_hz > 0.0) config.settings.update_rate_hz = rate_hz;
     if (args.has("preset")) config.settings.model.preset = preset;
     config.settings.threads = threads;
+    config.settings.max_span_s = max_span_s;
     tread_wear::DriveReplay replay(config.settings, config.wheels);
     const auto read_start = std::chrono::steady_clock::now();
     const tread_wear::DriveInfo info = tread_wear::readDriveBag(in, config, &replay);
@@ -144,13 +150,22 @@ int main(int argc, char** argv) {
 
     std::atomic<std::uint64_t> done{0};
     std::atomic<bool> finished{false};
-    std::thread bar;
-    if (!args.has("quiet"))
-      bar = std::thread(showProgress, std::cref(done), replay.steps() * replay.wheelCount(), std::cref(finished));
-    replay.run(&done);
+    {
+      // The progress thread ends and is joined however run() ends (a joinable std::thread must not be destroyed).
+      struct ProgressBar {
+        std::atomic<bool>& finished;
+        std::thread thread;
+        ~ProgressBar() {
+          finished = true;
+          if (thread.joinable()) thread.join();
+        }
+      } bar{finished, {}};
+      if (!args.has("quiet"))
+        bar.thread =
+            std::thread(showProgress, std::cref(done), replay.steps() * replay.wheelCount(), std::cref(finished));
+      replay.run(&done);
+    }
     const double cpu_s = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
-    finished = true;
-    if (bar.joinable()) bar.join();
 
     const tread_wear::ReplaySummary summary = replay.summarize(info.phases, info.time_offset_s);
     nlohmann::json json = tread_wear::replaySummaryToJson(summary, config.settings);
