@@ -64,6 +64,11 @@ RunResult runReplay(const std::string& bag, const std::string& tag, const std::s
   return r;
 }
 
+std::string fileBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
 std::string log(const std::string& tag) {
   std::ifstream in(tempPath(tag + ".log"));
   return std::string(std::istreambuf_iterator<char>(in), {});
@@ -170,9 +175,7 @@ TEST(DriveReplay, MissingFileFails) {
 
 TEST(DriveReplay, TruncatedBagFails) {
   ros::Time::init();
-  const std::string good = writeShortDrive("to_truncate.bag", 50.0);
-  std::ifstream in(good, std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  const std::string bytes = fileBytes(writeShortDrive("to_truncate.bag", 50.0));
   const std::string cut = tempPath("truncated.bag");
   std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
   const RunResult r = runReplay(cut, "truncated");
@@ -188,9 +191,7 @@ TEST(DriveReplay, TruncatedBagFails) {
 // billions of seconds (std::bad_alloc in a worker thread: abort); both checks must reject some of these mutants.
 TEST(DriveReplay, OverwrittenBytesAreReadOrRejectedNeverACrash) {
   ros::Time::init();
-  const std::string good = writeShortDrive("to_corrupt.bag", 10.0);
-  std::ifstream in(good, std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  const std::string bytes = fileBytes(writeShortDrive("to_corrupt.bag", 10.0));
   const std::string path = tempPath("corrupt.bag");
   std::mt19937 rng(7);
   int read = 0, rejected = 0, rejected_by_chunk_check = 0, refused_span = 0;
