@@ -119,10 +119,10 @@ int main(int argc, char** argv) {
       !args.number("max-span-s", &max_span_s, &error))
     return usage_error(error);
   if (args.positional().empty()) return usage_error("the input bag is required");
-  const std::pair<const char*, double> rates[] = {
+  const std::pair<const char*, double> positive[] = {
       {"rate-hz", rate_hz}, {"out-rate-hz", out_rate_hz}, {"timeseries-rate-hz", timeseries_rate_hz},
       {"max-span-s", max_span_s}};
-  for (const auto& [name, value] : rates)
+  for (const auto& [name, value] : positive)
     if (args.has(name) && !(value > 0.0)) return usage_error(std::string("--") + name + " must be > 0");
   if (threads < 1) return usage_error("--threads must be >= 1");
   tread_wear::Preset preset = tread_wear::Preset::kStandard;
