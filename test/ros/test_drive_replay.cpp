@@ -187,7 +187,7 @@ TEST(DriveReplay, TruncatedBagFails) {
 // Bytes overwritten anywhere in a bag (seeded; 1-8 bytes per mutant): every mutant is read and replayed, or
 // rejected with an error that names the file or the problem, never a crash. rosbag reads the records inside a
 // chunk without bounds checks, so a corrupt length there made it read past its buffer (segmentation fault in 2 of
-// 80 such mutants before checkChunkRecords), and a corrupt time stamp made the replay allocate step records for
+// 80 such mutants before checkBagRecords), and a corrupt time stamp made the replay allocate step records for
 // billions of seconds (std::bad_alloc in a worker thread: abort); both checks must reject some of these mutants.
 TEST(DriveReplay, OverwrittenBytesAreReadOrRejectedNeverACrash) {
   ros::Time::init();

@@ -266,12 +266,14 @@ DriveStats writeDriveBag(const std::string& path, const SpeedProfile& profile, c
   return stats;
 }
 
-void checkChunkRecords(const std::string& path) {
+void checkBagRecords(const std::string& path) {
   std::ifstream file(path, std::ios::binary | std::ios::ate);
   std::vector<char> bytes(file ? static_cast<std::size_t>(file.tellg()) : 0);
   if (!file || !file.seekg(0).read(bytes.data(), static_cast<std::streamsize>(bytes.size())))
-    throw BagError(path + ": cannot read the bag");
+    throw BagError(path + ": cannot open the bag (missing or unreadable file)");
   const std::uint64_t size = bytes.size();
+  if (size < kVersionLineBytes || std::string(bytes.data(), kVersionLineBytes) != "#ROSBAG V2.0\n")
+    return;  // not a 2.0 bag: rosbag reads older versions and names what it cannot read
   auto corrupt = [&](const std::string& what, std::uint64_t at) {
     return BagError(path + ": bag data unreadable (corrupt): " + what + " at byte " + std::to_string(at));
   };
@@ -281,7 +283,9 @@ void checkChunkRecords(const std::string& path) {
   Record r;
   for (std::uint64_t pos = kVersionLineBytes; pos < size; pos = r.end) {
     const std::string error = parseRecord(bytes.data(), size, pos, &r);
-    if (!error.empty()) throw corrupt(error, pos);
+    if (!error.empty())
+      throw BagError(path + ": not a readable bag (corrupt or truncated: " + error + " of the file at byte " +
+                     std::to_string(pos) + "; `rosbag reindex` may recover a truncated one)");
     if (r.op == kOpChunk) {
       chunk_records.clear();
       chunk_checked = r.compression == "none";
@@ -315,6 +319,7 @@ DriveInfo readDriveBag(const std::string& path, const ReplayConfig& config, Driv
     std::ifstream probe(path);
     if (!probe) throw BagError(path + ": cannot open the bag (missing or unreadable file)");
   }
+  checkBagRecords(path);
   DriveInfo info;
   rosbag::Bag bag;
   try {
@@ -322,7 +327,6 @@ DriveInfo readDriveBag(const std::string& path, const ReplayConfig& config, Driv
   } catch (const rosbag::BagException& e) {
     throw BagError(path + ": not a readable bag (corrupt, truncated or unindexed: try `rosbag reindex`): " + e.what());
   }
-  checkChunkRecords(path);
   try {
     std::map<std::string, const rosbag::ConnectionInfo*> connections;
     rosbag::View all(bag);

@@ -68,13 +68,13 @@ struct DriveInfo {
   double time_offset_s = 0.0;    ///< bag time of drive time 0 [s]
 };
 
-/// Checks the records inside the bag's chunks, which rosbag reads without bounds checks (a corrupt length in
-/// them makes it read past its buffer and crash): every record of every uncompressed chunk must lie within the
-/// chunk, and every index entry must point at one of them that leads to a message. Call after rosbag opened the
-/// bag (which checks the records outside the chunks). Compressed chunks are left to rosbag's decompressors.
-/// Reads the whole file once (the 111 MB WLTC drive: about 0.1 s). @throw BagError naming the file, the problem and
-/// its byte offset
-void checkChunkRecords(const std::string& path);
+/// Checks the records of a rosbag 2.0 file before rosbag reads it, since rosbag and ros::Header::parse read
+/// lengths from the file without bounds checks (a corrupt one makes them read past their buffers, or crash): every
+/// record and header field must lie within the file, every record of every uncompressed chunk within its chunk,
+/// and every index entry must point at a record of its chunk that leads to a message. Compressed chunks are left
+/// to rosbag's decompressors, other bag versions to rosbag. Reads the whole file once (the 111 MB WLTC drive:
+/// about 0.1 s). @throw BagError naming the file, the problem and its byte offset
+void checkBagRecords(const std::string& path);
 
 /// Loads every input sample of the configured wheels into replay. Checks first that each wheel's load, slip
 /// and speed topics exist with the right type (temperature is optional). @throw BagError

@@ -31,13 +31,13 @@ struct Segment {
 }  // namespace
 
 RunTable readDiagnosisBag(const std::string& path) {
+  checkBagRecords(path);
   rosbag::Bag bag;
   try {
     bag.open(path, rosbag::bagmode::Read);
   } catch (const std::exception& e) {
     throw std::runtime_error(path + ": cannot open the bag: " + e.what());
   }
-  checkChunkRecords(path);
   std::set<std::string> wheels;
   {
     rosbag::View all(bag);
