@@ -171,6 +171,11 @@ TEST(DriveReplay, MissingFileFails) {
   EXPECT_NE(r.exit_code, 0);
   EXPECT_FALSE(r.summary.at("complete").get<bool>());
   EXPECT_NE(log("missing").find("cannot open the bag"), std::string::npos) << log("missing");
+  // A directory opens as a stream but has no file size: the same error, not an allocation of its "size".
+  const RunResult dir = runReplay(::testing::TempDir(), "directory");
+  EXPECT_EQ(dir.exit_code, 1);
+  EXPECT_NE(log("directory").find("cannot open the bag (missing or unreadable file)"), std::string::npos)
+      << log("directory");
 }
 
 TEST(DriveReplay, TruncatedBagFails) {

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <string_view>
@@ -267,9 +268,11 @@ DriveStats writeDriveBag(const std::string& path, const SpeedProfile& profile, c
 }
 
 void checkBagRecords(const std::string& path) {
-  std::ifstream file(path, std::ios::binary | std::ios::ate);
-  std::vector<char> bytes(file ? static_cast<std::size_t>(file.tellg()) : 0);
-  if (!file || !file.seekg(0).read(bytes.data(), static_cast<std::streamsize>(bytes.size())))
+  std::error_code ec;
+  const std::uintmax_t file_size = std::filesystem::file_size(path, ec);  // an error for a directory too
+  std::ifstream file(path, std::ios::binary);
+  std::vector<char> bytes(ec ? 0 : static_cast<std::size_t>(file_size));
+  if (ec || !file || !file.read(bytes.data(), static_cast<std::streamsize>(bytes.size())))
     throw BagError(path + ": cannot open the bag (missing or unreadable file)");
   const std::uint64_t size = bytes.size();
   if (size < kVersionLineBytes || std::string(bytes.data(), kVersionLineBytes) != "#ROSBAG V2.0\n")
