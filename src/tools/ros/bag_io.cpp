@@ -318,11 +318,7 @@ void checkBagRecords(const std::string& path) {
 }
 
 DriveInfo readDriveBag(const std::string& path, const ReplayConfig& config, DriveReplay* replay) {
-  {
-    std::ifstream probe(path);
-    if (!probe) throw BagError(path + ": cannot open the bag (missing or unreadable file)");
-  }
-  checkBagRecords(path);
+  checkBagRecords(path);  // also the error for a missing or unreadable file
   DriveInfo info;
   rosbag::Bag bag;
   try {
