@@ -233,8 +233,8 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
          "|---|---|---|---|---|---|\n";
     for (const DetectionLimit& l : r.detection_limits) {
       m << "| " << l.term << " | " << l.parameter << " | "
-        << (!l.parameter.empty() && std::isnan(l.neutral) ? std::string("infinity") : g(l.neutral, 4)) << " | " << g(l.below, 3) << " | "
-        << g(l.above, 3) << " | " << l.note;
+        << (!l.parameter.empty() && std::isnan(l.neutral) ? std::string("infinity") : g(l.neutral, 4)) << " | "
+        << g(l.below, 3) << " | " << g(l.above, 3) << " | " << l.note;
       if (std::isfinite(l.switch_power)) m << "power of the switch " << g(l.switch_power, 2);
       m << " |\n";
     }
