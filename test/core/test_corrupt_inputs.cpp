@@ -9,6 +9,7 @@
 #include <functional>
 #include <random>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 
 #include "temp_file.h"
@@ -130,26 +131,21 @@ TEST(CorruptInputs, StateFiles) {
   StateFile state;
   state.saved_unix_s = 1.79e9;
   state.wheels = {{"front_left", "tire-a", 1.5e-4, 12345.6, 1.7e9}, {"rear_left", "", 0.0, 0.0, 0.0}};
-  const std::string valid = StateStore::toJson(state);
-  std::mt19937 rng(4);
-  int accepted = 0, rejected = 0;
-  for (int i = 0; i < kMutants; ++i) {
+  const Outcome o = mutants(StateStore::toJson(state), 4, "state file: ", [](const std::string& text) {
     StateFile loaded;
     std::string error;
     bool incompatible = false;
-    if (StateStore::fromJson(mutate(valid, &rng), &loaded, &error, &incompatible)) {
-      ++accepted;
-      for (const WheelRecord& w : loaded.wheels) {
-        EXPECT_TRUE(std::isfinite(w.accumulated_loss_kg) && w.accumulated_loss_kg >= 0.0) << w.accumulated_loss_kg;
-        EXPECT_TRUE(std::isfinite(w.distance_m) && w.distance_m >= 0.0) << w.distance_m;
-      }
-    } else {
-      ++rejected;
-      EXPECT_FALSE(error.empty()) << "mutant " << i;
+    if (!StateStore::fromJson(text, &loaded, &error, &incompatible)) {
+      EXPECT_FALSE(error.empty());
+      throw std::runtime_error("state file: " + error);
     }
-  }
-  EXPECT_GT(accepted, 0);
-  EXPECT_GT(rejected, 0);
+    for (const WheelRecord& w : loaded.wheels) {
+      EXPECT_TRUE(std::isfinite(w.accumulated_loss_kg) && w.accumulated_loss_kg >= 0.0) << w.accumulated_loss_kg;
+      EXPECT_TRUE(std::isfinite(w.distance_m) && w.distance_m >= 0.0) << w.distance_m;
+    }
+  });
+  EXPECT_GT(o.accepted, 0);
+  EXPECT_GT(o.rejected, 0);
 }
 
 }  // namespace
