@@ -43,8 +43,9 @@ struct Record {
   std::uint64_t data_pos = 0, data_len = 0, end = 0;
 };
 
-/// Parses the record at `pos` of `bytes[0, size)`; an empty string, or what runs past the end or is malformed.
-std::string parseRecord(const char* bytes, std::uint64_t size, std::uint64_t pos, Record* r) {
+/// Parses the header and data length of the record at `pos` of `bytes[0, size)` (not its data: `end` may lie
+/// past `size`); an empty string, or what runs past the end or is malformed.
+std::string parseRecordHeader(const char* bytes, std::uint64_t size, std::uint64_t pos, Record* r) {
   if (size - pos < 4) return "record header length past the end";
   const std::uint64_t header_len = littleEndian(bytes + pos, 4);
   if (header_len > size - pos - 4) return "record header of " + std::to_string(header_len) + " bytes past the end";
@@ -68,8 +69,13 @@ std::string parseRecord(const char* bytes, std::uint64_t size, std::uint64_t pos
   if (size - header_end < 4) return "record data length past the end";
   r->data_len = littleEndian(bytes + header_end, 4);
   r->data_pos = header_end + 4;
-  if (r->data_len > size - r->data_pos) return "record data of " + std::to_string(r->data_len) + " bytes past the end";
   r->end = r->data_pos + r->data_len;
+  return "";
+}
+
+/// The data of a record parsed from a stretch of `size` bytes must lie within it.
+std::string checkRecordData(std::uint64_t size, const Record& r) {
+  if (r.data_len > size - r.data_pos) return "record data of " + std::to_string(r.data_len) + " bytes past the end";
   return "";
 }
 
@@ -269,13 +275,19 @@ DriveStats writeDriveBag(const std::string& path, const SpeedProfile& profile, c
 
 void checkBagRecords(const std::string& path) {
   std::error_code ec;
-  const std::uintmax_t file_size = std::filesystem::file_size(path, ec);  // an error for a directory too
+  const std::uint64_t size = std::filesystem::file_size(path, ec);  // an error for a directory too
   std::ifstream file(path, std::ios::binary);
-  std::vector<char> bytes(ec ? 0 : static_cast<std::size_t>(file_size));
-  if (ec || !file || !file.read(bytes.data(), static_cast<std::streamsize>(bytes.size())))
-    throw BagError(path + ": cannot open the bag (missing or unreadable file)");
-  const std::uint64_t size = bytes.size();
-  if (size < kVersionLineBytes || std::string(bytes.data(), kVersionLineBytes) != "#ROSBAG V2.0\n")
+  // Reads [offset, offset + count) of the file (count <= size - offset) into `out`.
+  auto readAt = [&](std::uint64_t offset, std::uint64_t count, std::vector<char>* out) {
+    out->resize(count);
+    if (!file.seekg(static_cast<std::streamoff>(offset)) || !file.read(out->data(), static_cast<std::streamsize>(count)))
+      throw BagError(path + ": cannot read the bag at byte " + std::to_string(offset));
+  };
+  if (ec || !file) throw BagError(path + ": cannot open the bag (missing or unreadable file)");
+  std::vector<char> head, data;  // a record's header, and the data of a chunk or index record
+  if (size < kVersionLineBytes) return;  // not a 2.0 bag: rosbag names what it cannot read
+  readAt(0, kVersionLineBytes, &head);
+  if (std::string(head.data(), kVersionLineBytes) != "#ROSBAG V2.0\n")
     return;  // not a 2.0 bag: rosbag reads older versions and names what it cannot read
   auto corrupt = [&](const std::string& what, std::uint64_t at) {
     return BagError(path + ": bag data unreadable (corrupt): " + what + " at byte " + std::to_string(at));
@@ -284,34 +296,46 @@ void checkBagRecords(const std::string& path) {
   std::vector<std::pair<std::uint64_t, char>> chunk_records;
   bool chunk_checked = false;
   Record r;
-  for (std::uint64_t pos = kVersionLineBytes; pos < size; pos = r.end) {
-    const std::string error = parseRecord(bytes.data(), size, pos, &r);
+  // One record at a time: its header is read first, then the data of a chunk or index record only, so memory
+  // stays at one chunk whatever the size of the bag.
+  for (std::uint64_t pos = kVersionLineBytes; pos < size; pos = pos + r.end) {
+    std::string error = "record header length past the end";
+    if (size - pos >= 4) {
+      readAt(pos, 4, &head);
+      readAt(pos, std::min(size - pos, 8 + littleEndian(head.data(), 4)), &head);  // length, header, data length
+      error = parseRecordHeader(head.data(), head.size(), 0, &r);
+      if (error.empty()) error = checkRecordData(size - pos, r);
+    }
     if (!error.empty())
       throw BagError(path + ": not a readable bag (corrupt or truncated: " + error + " of the file at byte " +
                      std::to_string(pos) + "; `rosbag reindex` may recover a truncated one)");
+    const std::uint64_t data_at = pos + r.data_pos;
     if (r.op == kOpChunk) {
       chunk_records.clear();
       chunk_checked = r.compression == "none";
       if (!chunk_checked) continue;
       if (r.size.size() != 4 || littleEndian(r.size.data(), 4) != r.data_len)
         throw corrupt("uncompressed chunk whose size field differs from its data length", pos);
+      readAt(data_at, r.data_len, &data);
       Record inner;
       for (std::uint64_t at = 0; at < r.data_len; at = inner.end) {
-        const std::string inner_error = parseRecord(bytes.data() + r.data_pos, r.data_len, at, &inner);
-        if (!inner_error.empty()) throw corrupt(inner_error + " of its chunk", r.data_pos + at);
+        std::string inner_error = parseRecordHeader(data.data(), r.data_len, at, &inner);
+        if (inner_error.empty()) inner_error = checkRecordData(r.data_len, inner);
+        if (!inner_error.empty()) throw corrupt(inner_error + " of its chunk", data_at + at);
         chunk_records.emplace_back(at, inner.op);
       }
     } else if (r.op == kOpIndexData && chunk_checked) {
       if (r.data_len % 12 != 0) throw corrupt("index data not a whole number of entries", pos);
+      readAt(data_at, r.data_len, &data);
       for (std::uint64_t e = 0; e < r.data_len; e += 12) {
-        const std::uint64_t offset = littleEndian(bytes.data() + r.data_pos + e + 8, 4);
+        const std::uint64_t offset = littleEndian(data.data() + e + 8, 4);
         // rosbag reads from the entry's record on, past connection and definition records, to a message.
         auto it = std::lower_bound(chunk_records.begin(), chunk_records.end(), std::make_pair(offset, char{0}));
         if (it != chunk_records.end() && it->first != offset) it = chunk_records.end();
         while (it != chunk_records.end() && (it->second == kOpConnection || it->second == kOpMessageDefinition)) ++it;
         if (it == chunk_records.end() || it->second != kOpMessageData)
           throw corrupt("index entry pointing at no message of its chunk (offset " + std::to_string(offset) + ")",
-                        r.data_pos + e);
+                        data_at + e);
       }
     }
   }

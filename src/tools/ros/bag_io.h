@@ -72,8 +72,8 @@ struct DriveInfo {
 /// lengths from the file without bounds checks (a corrupt one makes them read past their buffers, or crash): every
 /// record and header field must lie within the file, every record of every uncompressed chunk within its chunk,
 /// and every index entry must point at a record of its chunk that leads to a message. Compressed chunks are left
-/// to rosbag's decompressors, other bag versions to rosbag. Reads the whole file once (the 111 MB WLTC drive:
-/// about 0.1 s). @throw BagError naming the file, the problem and its byte offset
+/// to rosbag's decompressors, other bag versions to rosbag. Reads the file once, a record at a time (memory: one
+/// chunk). @throw BagError naming the file, the problem and its byte offset
 void checkBagRecords(const std::string& path);
 
 /// Loads every input sample of the configured wheels into replay. Checks first that each wheel's load, slip
