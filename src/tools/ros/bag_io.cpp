@@ -43,12 +43,13 @@ struct Record {
   std::uint64_t data_pos = 0, data_len = 0, end = 0;
 };
 
-/// Parses the header and data length of the record at `pos` of `bytes[0, size)` (not its data: `end` may lie
-/// past `size`); an empty string, or what runs past the end or is malformed.
-std::string parseRecordHeader(const char* bytes, std::uint64_t size, std::uint64_t pos, Record* r) {
-  if (size - pos < 4) return "record header length past the end";
+/// Parses the record at `pos` of a stretch of `size` bytes whose first `available` are in `bytes` (at least its
+/// header and data length, or to the end); an empty string, or what runs past the end or is malformed.
+std::string parseRecord(const char* bytes, std::uint64_t available, std::uint64_t size, std::uint64_t pos,
+                        Record* r) {
+  if (available - pos < 4) return "record header length past the end";
   const std::uint64_t header_len = littleEndian(bytes + pos, 4);
-  if (header_len > size - pos - 4) return "record header of " + std::to_string(header_len) + " bytes past the end";
+  if (header_len > available - pos - 4) return "record header of " + std::to_string(header_len) + " bytes past the end";
   std::uint64_t at = pos + 4;
   const std::uint64_t header_end = at + header_len;
   *r = Record();
@@ -66,16 +67,11 @@ std::string parseRecordHeader(const char* bytes, std::uint64_t size, std::uint64
     if (name == "size") r->size = value;
     at += field_len;
   }
-  if (size - header_end < 4) return "record data length past the end";
+  if (available - header_end < 4) return "record data length past the end";
   r->data_len = littleEndian(bytes + header_end, 4);
   r->data_pos = header_end + 4;
+  if (r->data_len > size - r->data_pos) return "record data of " + std::to_string(r->data_len) + " bytes past the end";
   r->end = r->data_pos + r->data_len;
-  return "";
-}
-
-/// The data of a record parsed from a stretch of `size` bytes must lie within it.
-std::string checkRecordData(std::uint64_t size, const Record& r) {
-  if (r.data_len > size - r.data_pos) return "record data of " + std::to_string(r.data_len) + " bytes past the end";
   return "";
 }
 
@@ -285,9 +281,8 @@ void checkBagRecords(const std::string& path) {
   };
   if (ec || !file) throw BagError(path + ": cannot open the bag (missing or unreadable file)");
   std::vector<char> head, data;  // a record's header, and the data of a chunk or index record
-  if (size < kVersionLineBytes) return;  // not a 2.0 bag: rosbag names what it cannot read
-  readAt(0, kVersionLineBytes, &head);
-  if (std::string(head.data(), kVersionLineBytes) != "#ROSBAG V2.0\n")
+  if (size >= kVersionLineBytes) readAt(0, kVersionLineBytes, &head);
+  if (size < kVersionLineBytes || std::string(head.data(), kVersionLineBytes) != "#ROSBAG V2.0\n")
     return;  // not a 2.0 bag: rosbag reads older versions and names what it cannot read
   auto corrupt = [&](const std::string& what, std::uint64_t at) {
     return BagError(path + ": bag data unreadable (corrupt): " + what + " at byte " + std::to_string(at));
@@ -298,14 +293,11 @@ void checkBagRecords(const std::string& path) {
   Record r;
   // One record at a time: its header is read first, then the data of a chunk or index record only, so memory
   // stays at one chunk whatever the size of the bag.
-  for (std::uint64_t pos = kVersionLineBytes; pos < size; pos = pos + r.end) {
-    std::string error = "record header length past the end";
-    if (size - pos >= 4) {
-      readAt(pos, 4, &head);
-      readAt(pos, std::min(size - pos, 8 + littleEndian(head.data(), 4)), &head);  // length, header, data length
-      error = parseRecordHeader(head.data(), head.size(), 0, &r);
-      if (error.empty()) error = checkRecordData(size - pos, r);
-    }
+  for (std::uint64_t pos = kVersionLineBytes; pos < size; pos += r.end) {
+    readAt(pos, std::min<std::uint64_t>(size - pos, 4), &head);
+    if (head.size() == 4)  // then up to the data length: uint32 header length, header, uint32 data length
+      readAt(pos, std::min(size - pos, 8 + littleEndian(head.data(), 4)), &head);
+    const std::string error = parseRecord(head.data(), head.size(), size - pos, 0, &r);
     if (!error.empty())
       throw BagError(path + ": not a readable bag (corrupt or truncated: " + error + " of the file at byte " +
                      std::to_string(pos) + "; `rosbag reindex` may recover a truncated one)");
@@ -319,8 +311,7 @@ void checkBagRecords(const std::string& path) {
       readAt(data_at, r.data_len, &data);
       Record inner;
       for (std::uint64_t at = 0; at < r.data_len; at = inner.end) {
-        std::string inner_error = parseRecordHeader(data.data(), r.data_len, at, &inner);
-        if (inner_error.empty()) inner_error = checkRecordData(r.data_len, inner);
+        const std::string inner_error = parseRecord(data.data(), r.data_len, r.data_len, at, &inner);
         if (!inner_error.empty()) throw corrupt(inner_error + " of its chunk", data_at + at);
         chunk_records.emplace_back(at, inner.op);
       }
