@@ -4,9 +4,11 @@
 #include <gtest/gtest.h>
 #include <ros/time.h>
 #include <rosbag/bag.h>
+#include <rosbag/view.h>
 #include <std_msgs/String.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -189,18 +191,34 @@ TEST(DriveReplay, TruncatedBagFails) {
   EXPECT_NE(log("truncated").find("not a readable bag"), std::string::npos) << log("truncated");
 }
 
-// Bytes overwritten anywhere in a bag (seeded; 1-8 bytes per mutant): every mutant is read and replayed, or
-// rejected with an error that names the file or the problem, never a crash. rosbag reads the records inside a
-// chunk without bounds checks, so a corrupt length there made it read past its buffer (segmentation fault in 2 of
-// 80 such mutants before checkBagRecords), and a corrupt time stamp made the replay allocate step records for
-// billions of seconds (std::bad_alloc in a worker thread: abort); both checks must reject some of these mutants.
-TEST(DriveReplay, OverwrittenBytesAreReadOrRejectedNeverACrash) {
-  ros::Time::init();
-  const std::string bytes = fileBytes(writeShortDrive("to_corrupt.bag", 10.0));
-  const std::string path = tempPath("corrupt.bag");
-  std::mt19937 rng(7);
+/// The messages of `source` written again with chunks of about `threshold_bytes`: the same data, in many chunks
+/// each followed by its index records (rosbag's default threshold of 768 KB puts a short drive in one chunk).
+std::string rechunk(const std::string& source, const std::string& name, std::uint32_t threshold_bytes) {
+  rosbag::Bag in(source, rosbag::bagmode::Read), out(tempPath(name), rosbag::bagmode::Write);
+  out.setChunkThreshold(threshold_bytes);
+  for (const rosbag::MessageInstance& m : rosbag::View(in))
+    out.write(m.getTopic(), m.getTime(), m, m.getConnectionHeader());
+  return tempPath(name);
+}
+
+/// Uncompressed chunks of a bag, counted by their header field (each chunk record has one).
+int chunkCount(const std::string& bytes) {
+  int n = 0;
+  for (auto at = bytes.find("compression=none"); at != std::string::npos; at = bytes.find("compression=none", at + 1))
+    ++n;
+  return n;
+}
+
+struct MutantOutcomes {
   int read = 0, rejected = 0, rejected_by_chunk_check = 0, refused_span = 0;
-  for (int mutant = 0; mutant < 300; ++mutant) {
+};
+
+/// Writes `count` mutants of `bytes` (seeded; 1-8 bytes overwritten each) to `path` and reads and replays each:
+/// a rejection must name the file, a refused replay the span limit; anything else (a crash) fails the test.
+MutantOutcomes replayMutants(const std::string& bytes, const std::string& path, unsigned seed, int count) {
+  std::mt19937 rng(seed);
+  MutantOutcomes out;
+  for (int mutant = 0; mutant < count; ++mutant) {
     std::string m = bytes;
     const int edits = 1 + static_cast<int>(rng() % 8);
     for (int e = 0; e < edits; ++e) m[rng() % m.size()] = static_cast<char>(rng() % 256);
@@ -210,23 +228,60 @@ TEST(DriveReplay, OverwrittenBytesAreReadOrRejectedNeverACrash) {
     try {
       readDriveBag(path, config, &replay);
     } catch (const BagError& e) {
-      ++rejected;
+      ++out.rejected;
       const std::string what = e.what();
       EXPECT_EQ(what.rfind(path + ": ", 0), 0u) << "mutant " << mutant << ": " << what;
-      if (what.find("bag data unreadable (corrupt): ") != std::string::npos) ++rejected_by_chunk_check;
+      if (what.find("bag data unreadable (corrupt): ") != std::string::npos) ++out.rejected_by_chunk_check;
       continue;
     }
-    ++read;
+    ++out.read;
     try {  // a corrupt time stamp can make the span absurd: refused before anything is allocated for it
       replay.run();
     } catch (const std::runtime_error& e) {
-      ++refused_span;
+      ++out.refused_span;
       EXPECT_NE(std::string(e.what()).find("more than max_span_s"), std::string::npos) << e.what();
     }
   }
-  EXPECT_GT(read, 0);
-  EXPECT_GT(rejected_by_chunk_check, 0) << "of " << rejected << " rejected";
-  EXPECT_GT(refused_span, 0) << "of " << read << " read";
+  return out;
+}
+
+// Bytes overwritten anywhere in a bag: every mutant is read and replayed, or rejected with an error that names the
+// file or the problem, never a crash. rosbag reads the records inside a chunk without bounds checks, so a corrupt
+// length there made it read past its buffer (segmentation fault in 2 of 80 such mutants before checkBagRecords),
+// and a corrupt time stamp made the replay allocate step records for billions of seconds (std::bad_alloc in a
+// worker thread: abort); both checks must reject some of these mutants.
+TEST(DriveReplay, OverwrittenBytesAreReadOrRejectedNeverACrash) {
+  ros::Time::init();
+  const std::string bytes = fileBytes(writeShortDrive("to_corrupt.bag", 10.0));
+  ASSERT_EQ(chunkCount(bytes), 1);
+  const MutantOutcomes out = replayMutants(bytes, tempPath("corrupt.bag"), 7, 300);
+  EXPECT_GT(out.read, 0);
+  EXPECT_GT(out.rejected_by_chunk_check, 0) << "of " << out.rejected << " rejected";
+  EXPECT_GT(out.refused_span, 0) << "of " << out.read << " read";
+}
+
+// checkBagRecords walks the file a record at a time: the same drive in dozens of chunks, each followed by its
+// index records, passes the check and replays to the same losses as in one chunk; its mutants, with corrupt bytes
+// in any of the chunks or indexes, are read or rejected like those of the one-chunk bag, never a crash.
+TEST(DriveReplay, ManyChunksReadAsOneAndTheirMutantsNeverCrash) {
+  ros::Time::init();
+  const std::string one = writeShortDrive("one_chunk.bag", 10.0);
+  const std::string many = rechunk(one, "many_chunks.bag", 4096);
+  ASSERT_GE(chunkCount(fileBytes(many)), 20);
+  ReplayConfig config = loadReplayConfig(kConfig);
+  DriveReplay from_one(config.settings, config.wheels), from_many(config.settings, config.wheels);
+  readDriveBag(one, config, &from_one);
+  readDriveBag(many, config, &from_many);
+  from_one.run();
+  from_many.run();
+  for (int w = 0; w < kWheelCount; ++w) {
+    EXPECT_GT(from_one.records(w).back().accumulated_loss_kg, 0.0);
+    EXPECT_EQ(from_many.sampleCount(w), from_one.sampleCount(w));
+    EXPECT_EQ(from_many.records(w).back().accumulated_loss_kg, from_one.records(w).back().accumulated_loss_kg);
+  }
+  const MutantOutcomes out = replayMutants(fileBytes(many), tempPath("corrupt_many.bag"), 11, 100);
+  EXPECT_GT(out.read, 0);
+  EXPECT_GT(out.rejected_by_chunk_check, 0) << "of " << out.rejected << " rejected";
 }
 
 // One sample at 1e9 s, 30 years after the others (a corrupt time stamp), would ask for 1e11 step records per wheel:
