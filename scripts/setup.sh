@@ -14,7 +14,7 @@ TREAD_WEAR_APT_PACKAGES=(
   # ROS 1 (Debian's own packages; see docs/setup.md)
   ros-base-dev catkin ros-message-generation rosbash
   ros-std-msgs ros-geometry-msgs ros-sensor-msgs ros-visualization-msgs
-  libtf2-ros-dev libtf2-eigen-dev librosbag-dev librostest-dev python3-rostest
+  libtf2-ros-dev libtf2-eigen-dev librosbag-dev libroslz4-dev libbz2-dev librostest-dev python3-rostest
   libdiagnostic-updater-dev libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
   libmessage-filters-dev python3-rosbag python3-roslaunch
   python3-std-msgs python3-geometry-msgs python3-sensor-msgs python3-visualization-msgs

@@ -191,21 +191,24 @@ TEST(DriveReplay, TruncatedBagFails) {
   EXPECT_NE(log("truncated").find("not a readable bag"), std::string::npos) << log("truncated");
 }
 
-/// The messages of `source` written again with chunks of about `threshold_bytes`: the same data, in many chunks
-/// each followed by its index records (rosbag's default threshold of 768 KB puts a short drive in one chunk).
-std::string rechunk(const std::string& source, const std::string& name, std::uint32_t threshold_bytes) {
+/// The messages of `source` written again with chunks of about `threshold_bytes`, compressed or not: the same data,
+/// in many chunks each followed by its index records (rosbag's default threshold of 768 KB puts a short drive in one
+/// chunk).
+std::string rechunk(const std::string& source, const std::string& name, std::uint32_t threshold_bytes,
+                    rosbag::compression::CompressionType compression) {
   rosbag::Bag in(source, rosbag::bagmode::Read), out(tempPath(name), rosbag::bagmode::Write);
   out.setChunkThreshold(threshold_bytes);
+  out.setCompression(compression);
   for (const rosbag::MessageInstance& m : rosbag::View(in))
     out.write(m.getTopic(), m.getTime(), m, m.getConnectionHeader());
   return tempPath(name);
 }
 
-/// Uncompressed chunks of a bag, counted by their header field (each chunk record has one).
-int chunkCount(const std::string& bytes) {
+/// Chunks of a bag, counted by their header field "compression=NAME" (each chunk record has one).
+int chunkCount(const std::string& bytes, const std::string& compression = "none") {
+  const std::string field = "compression=" + compression;
   int n = 0;
-  for (auto at = bytes.find("compression=none"); at != std::string::npos; at = bytes.find("compression=none", at + 1))
-    ++n;
+  for (auto at = bytes.find(field); at != std::string::npos; at = bytes.find(field, at + 1)) ++n;
   return n;
 }
 
@@ -260,28 +263,37 @@ TEST(DriveReplay, OverwrittenBytesAreReadOrRejectedNeverACrash) {
   EXPECT_GT(out.refused_span, 0) << "of " << out.read << " read";
 }
 
-// checkBagRecords walks the file a record at a time: the same drive in dozens of chunks, each followed by its
-// index records, passes the check and replays to the same losses as in one chunk; its mutants, with corrupt bytes
-// in any of the chunks or indexes, are read or rejected like those of the one-chunk bag, never a crash.
+// checkBagRecords walks the file a record at a time and decompresses bz2 and lz4 chunks before rosbag parses them:
+// the same drive in dozens of chunks, each followed by its index records, uncompressed or compressed, passes the
+// check and replays to the same losses as in one chunk. Its mutants, with corrupt bytes in any chunk or index, are
+// read or rejected, never a crash (before the compressed chunks were checked, 19 of 1200 such mutants of the
+// compressed bags crashed rosbag with a segmentation fault).
 TEST(DriveReplay, ManyChunksReadAsOneAndTheirMutantsNeverCrash) {
   ros::Time::init();
   const std::string one = writeShortDrive("one_chunk.bag", 10.0);
-  const std::string many = rechunk(one, "many_chunks.bag", 4096);
-  ASSERT_GE(chunkCount(fileBytes(many)), 20);
   ReplayConfig config = loadReplayConfig(kConfig);
-  DriveReplay from_one(config.settings, config.wheels), from_many(config.settings, config.wheels);
+  DriveReplay from_one(config.settings, config.wheels);
   readDriveBag(one, config, &from_one);
-  readDriveBag(many, config, &from_many);
   from_one.run();
-  from_many.run();
-  for (int w = 0; w < kWheelCount; ++w) {
-    EXPECT_GT(from_one.records(w).back().accumulated_loss_kg, 0.0);
-    EXPECT_EQ(from_many.sampleCount(w), from_one.sampleCount(w));
-    EXPECT_EQ(from_many.records(w).back().accumulated_loss_kg, from_one.records(w).back().accumulated_loss_kg);
+  const std::pair<rosbag::compression::CompressionType, std::string> codecs[] = {
+      {rosbag::compression::Uncompressed, "none"}, {rosbag::compression::BZ2, "bz2"}, {rosbag::compression::LZ4, "lz4"}};
+  unsigned seed = 11;
+  for (const auto& [codec, name] : codecs) {
+    SCOPED_TRACE(name);
+    const std::string many = rechunk(one, "many_chunks_" + name + ".bag", 4096, codec);
+    ASSERT_GE(chunkCount(fileBytes(many), name), 20);
+    DriveReplay from_many(config.settings, config.wheels);
+    readDriveBag(many, config, &from_many);
+    from_many.run();
+    for (int w = 0; w < kWheelCount; ++w) {
+      EXPECT_GT(from_one.records(w).back().accumulated_loss_kg, 0.0);
+      EXPECT_EQ(from_many.sampleCount(w), from_one.sampleCount(w));
+      EXPECT_EQ(from_many.records(w).back().accumulated_loss_kg, from_one.records(w).back().accumulated_loss_kg);
+    }
+    const MutantOutcomes out = replayMutants(fileBytes(many), tempPath("corrupt_" + name + ".bag"), seed++, 150);
+    EXPECT_GT(out.read, 0);
+    EXPECT_GT(out.rejected_by_chunk_check, 0) << "of " << out.rejected << " rejected";
   }
-  const MutantOutcomes out = replayMutants(fileBytes(many), tempPath("corrupt_many.bag"), 11, 100);
-  EXPECT_GT(out.read, 0);
-  EXPECT_GT(out.rejected_by_chunk_check, 0) << "of " << out.rejected << " rejected";
 }
 
 // One sample at 1e9 s, 30 years after the others (a corrupt time stamp), would ask for 1e11 step records per wheel:

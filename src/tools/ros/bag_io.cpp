@@ -1,6 +1,8 @@
 #include "bag_io.h"
 
+#include <bzlib.h>
 #include <rosbag/bag.h>
+#include <roslz4/lz4s.h>
 #include <rosbag/view.h>
 #include <std_msgs/String.h>
 #include <yaml-cpp/yaml.h>
@@ -73,6 +75,22 @@ std::string parseRecord(const char* bytes, std::uint64_t available, std::uint64_
   if (r->data_len > size - r->data_pos) return "record data of " + std::to_string(r->data_len) + " bytes past the end";
   r->end = r->data_pos + r->data_len;
   return "";
+}
+
+/// Largest decompressed chunk the check accepts [bytes]: rosbag allocates a chunk's size field before it
+/// decompresses, so a corrupt one must not ask for gigabytes (rosbag's chunks hold about 768 KB by default; a chunk
+/// exceeds that only by its last message).
+constexpr std::uint64_t kMaxChunkBytes = std::uint64_t{1} << 30;
+
+/// Decompresses a bz2 or lz4 chunk (the codecs rosbag writes) into `out`, sized to the chunk's size field; false
+/// when the data do not decompress to exactly that many bytes.
+bool decompressChunk(std::string_view compression, std::vector<char>* in, std::vector<char>* out) {
+  unsigned int out_len = static_cast<unsigned int>(out->size());
+  const unsigned int in_len = static_cast<unsigned int>(in->size());
+  const bool ok = compression == "bz2"
+                      ? BZ2_bzBuffToBuffDecompress(out->data(), &out_len, in->data(), in_len, 0, 0) == BZ_OK
+                      : roslz4_buffToBuffDecompress(in->data(), in_len, out->data(), &out_len) == ROSLZ4_OK;
+  return ok && out_len == out->size();
 }
 
 std::string absoluteTopic(const std::string& topic) { return topic.empty() || topic[0] == '/' ? topic : "/" + topic; }
@@ -281,6 +299,7 @@ void checkBagRecords(const std::string& path) {
   };
   if (ec || !file) throw BagError(path + ": cannot open the bag (missing or unreadable file)");
   std::vector<char> head, data;  // a record's header, and the data of a chunk or index record
+  std::vector<char> unpacked;    // a compressed chunk's data, decompressed
   if (size >= kVersionLineBytes) readAt(0, kVersionLineBytes, &head);
   if (size < kVersionLineBytes || std::string(head.data(), kVersionLineBytes) != "#ROSBAG V2.0\n")
     return;  // not a 2.0 bag: rosbag reads older versions and names what it cannot read
@@ -304,14 +323,28 @@ void checkBagRecords(const std::string& path) {
     const std::uint64_t data_at = pos + r.data_pos;
     if (r.op == kOpChunk) {
       chunk_records.clear();
-      chunk_checked = r.compression == "none";
-      if (!chunk_checked) continue;
-      if (r.size.size() != 4 || littleEndian(r.size.data(), 4) != r.data_len)
+      const bool compressed = r.compression == "bz2" || r.compression == "lz4";
+      chunk_checked = compressed || r.compression == "none";
+      if (!chunk_checked) continue;  // rosbag names a compression it does not know
+      const std::uint64_t chunk_len = r.size.size() == 4 ? littleEndian(r.size.data(), 4) : kMaxChunkBytes + 1;
+      if (!compressed && chunk_len != r.data_len)
         throw corrupt("uncompressed chunk whose size field differs from its data length", pos);
+      if (chunk_len > kMaxChunkBytes)
+        throw corrupt("chunk whose size field is missing or above " + std::to_string(kMaxChunkBytes) + " bytes", pos);
       readAt(data_at, r.data_len, &data);
+      if (compressed) {
+        unpacked.resize(chunk_len);
+        if (!decompressChunk(r.compression, &data, &unpacked))
+          throw corrupt(std::string(r.compression) + " chunk that does not decompress to its size field (" +
+                            std::to_string(chunk_len) + " bytes)",
+                        pos);
+      }
+      const std::vector<char>& chunk = compressed ? unpacked : data;
       Record inner;
-      for (std::uint64_t at = 0; at < r.data_len; at = inner.end) {
-        const std::string inner_error = parseRecord(data.data(), r.data_len, r.data_len, at, &inner);
+      for (std::uint64_t at = 0; at < chunk_len; at = inner.end) {
+        const std::string inner_error = parseRecord(chunk.data(), chunk_len, chunk_len, at, &inner);
+        if (!inner_error.empty() && compressed)
+          throw corrupt(inner_error + " of its decompressed chunk (at its byte " + std::to_string(at) + ")", pos);
         if (!inner_error.empty()) throw corrupt(inner_error + " of its chunk", data_at + at);
         chunk_records.emplace_back(at, inner.op);
       }

@@ -70,10 +70,11 @@ struct DriveInfo {
 
 /// Checks the records of a rosbag 2.0 file before rosbag reads it, since rosbag and ros::Header::parse read
 /// lengths from the file without bounds checks (a corrupt one makes them read past their buffers, or crash): every
-/// record and header field must lie within the file, every record of every uncompressed chunk within its chunk,
-/// and every index entry must point at a record of its chunk that leads to a message. Compressed chunks are left
-/// to rosbag's decompressors, other bag versions to rosbag. Reads the file once, a record at a time (memory: one
-/// chunk). @throw BagError naming the file, the problem and its byte offset
+/// record and header field must lie within the file, every record of every chunk within its chunk (bz2 and lz4
+/// chunks are decompressed first, to exactly their size field, at most 1 GiB), and every index entry must point at
+/// a record of its chunk that leads to a message. Chunks of another compression are left to rosbag, as are other
+/// bag versions. Reads the file once, a record at a time (memory: one chunk, and its decompressed data).
+/// @throw BagError naming the file, the problem and its byte offset
 void checkBagRecords(const std::string& path);
 
 /// Loads every input sample of the configured wheels into replay. Checks first that each wheel's load, slip
