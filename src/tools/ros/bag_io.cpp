@@ -306,7 +306,8 @@ void checkBagRecords(const std::string& path) {
   auto corrupt = [&](const std::string& what, std::uint64_t at) {
     return BagError(path + ": bag data unreadable (corrupt): " + what + " at byte " + std::to_string(at));
   };
-  // Record starts of the last uncompressed chunk (relative to its data, ascending) with their ops.
+  // Record starts of the last checked chunk (relative to its data, decompressed if compressed; ascending) with
+  // their ops.
   std::vector<std::pair<std::uint64_t, char>> chunk_records;
   bool chunk_checked = false;
   Record r;
