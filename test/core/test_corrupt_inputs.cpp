@@ -1,4 +1,5 @@
-// Corrupt files: seeded random mutations of valid inputs (bytes flipped, spans deleted or repeated, tokens such
+// Corrupt files (run tables, tire and vehicle parameter files, condition tables, speed profiles, node state
+// files): seeded random mutations of valid inputs (bytes flipped, spans deleted or repeated, tokens such
 // as "nan", "," or "{" inserted, the file cut short) are either read as valid data or rejected with a
 // std::exception that names the file; never a crash, another exception type or invalid data let through. Under
 // scripts/run_sanitizers.sh this also checks every parser for memory errors on such input.
@@ -17,7 +18,9 @@
 #include "tread_wear/core/diagnosis/data.h"
 #include "tread_wear/core/params_io.h"
 #include "tread_wear/core/run_table.h"
+#include "tread_wear/core/speed_profile.h"
 #include "tread_wear/core/state_store.h"
+#include "tread_wear/core/vehicle_model.h"
 
 namespace tread_wear {
 namespace {
@@ -120,6 +123,39 @@ TEST(CorruptInputs, ConditionTables) {
     const ConditionsTable t = readConditions(in, "mutant.csv");
     std::string error;
     for (const OperatingPoint& p : t.points) EXPECT_TRUE(p.validate(&error)) << error;
+  });
+  EXPECT_GT(o.accepted, 0);
+  EXPECT_GT(o.rejected, 0);
+}
+
+// A driving cycle (the first two minutes of WLTC class 3b, with its phase line): an accepted profile is one the
+// drive generator can use, finite and non-negative speed and distance over its whole span.
+TEST(CorruptInputs, SpeedProfiles) {
+  std::istringstream wltc(readFile("data/wltc_class3b.csv"));
+  std::string valid, line;
+  for (int n = 0; n < 123 && std::getline(wltc, line); ++n) valid += line + "\n";
+  ASSERT_NE(valid.find("# Phases:"), std::string::npos);
+  const Outcome o = mutants(valid, 5, ".csv", [](const std::string& text) {
+    const TempFile file(text, ".csv");
+    const SpeedProfile profile = SpeedProfile::load(file.path());
+    EXPECT_GT(profile.duration_s(), 0.0);
+    for (double t = profile.startTime_s(); t <= profile.endTime_s(); t += 0.5) {
+      EXPECT_TRUE(std::isfinite(profile.speed(t)) && profile.speed(t) >= 0.0) << t;
+      EXPECT_TRUE(std::isfinite(profile.distance(t)) && profile.distance(t) >= 0.0) << t;
+    }
+  });
+  EXPECT_GT(o.accepted, 0);
+  EXPECT_GT(o.rejected, 0);
+}
+
+TEST(CorruptInputs, VehicleParameterFiles) {
+  const std::string valid = readFile("config/vehicle_passenger_car.yaml");
+  ASSERT_FALSE(valid.empty());
+  const Outcome o = mutants(valid, 6, ".yaml", [](const std::string& text) {
+    const TempFile file(text, ".yaml");
+    const VehicleParams p = loadVehicleParams(file.path());
+    std::string error;
+    EXPECT_TRUE(p.validate(&error)) << error;
   });
   EXPECT_GT(o.accepted, 0);
   EXPECT_GT(o.rejected, 0);
