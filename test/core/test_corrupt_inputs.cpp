@@ -101,18 +101,21 @@ TEST(CorruptInputs, RunTables) {
   EXPECT_GT(diagnosable, 0);
 }
 
-TEST(CorruptInputs, TireParameterFiles) {
-  const std::string valid = readFile("config/tires/grosch_wheel.yaml");
+/// Mutants of the parameter file at `path` (repo-relative): an accepted one must pass the params' validate().
+template <typename Load>
+void parameterFileMutants(const std::string& path, unsigned seed, Load load) {
+  const std::string valid = readFile(path);
   ASSERT_FALSE(valid.empty());
-  const Outcome o = mutants(valid, 2, ".yaml", [](const std::string& text) {
+  const Outcome o = mutants(valid, seed, ".yaml", [&](const std::string& text) {
     const TempFile file(text, ".yaml");
-    const TireParams p = loadTireParams(file.path());
     std::string error;
-    EXPECT_TRUE(p.validate(&error)) << error;
+    EXPECT_TRUE(load(file.path()).validate(&error)) << error;
   });
   EXPECT_GT(o.accepted, 0);
   EXPECT_GT(o.rejected, 0);
 }
+
+TEST(CorruptInputs, TireParameterFiles) { parameterFileMutants("config/tires/grosch_wheel.yaml", 2, loadTireParams); }
 
 TEST(CorruptInputs, ConditionTables) {
   const std::string valid =
@@ -149,16 +152,7 @@ TEST(CorruptInputs, SpeedProfiles) {
 }
 
 TEST(CorruptInputs, VehicleParameterFiles) {
-  const std::string valid = readFile("config/vehicle_passenger_car.yaml");
-  ASSERT_FALSE(valid.empty());
-  const Outcome o = mutants(valid, 6, ".yaml", [](const std::string& text) {
-    const TempFile file(text, ".yaml");
-    const VehicleParams p = loadVehicleParams(file.path());
-    std::string error;
-    EXPECT_TRUE(p.validate(&error)) << error;
-  });
-  EXPECT_GT(o.accepted, 0);
-  EXPECT_GT(o.rejected, 0);
+  parameterFileMutants("config/vehicle_passenger_car.yaml", 6, loadVehicleParams);
 }
 
 // The node's state file: what it cannot use is reported (fromJson false with a reason), never loaded as
