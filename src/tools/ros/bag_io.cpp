@@ -2,8 +2,8 @@
 
 #include <bzlib.h>
 #include <rosbag/bag.h>
-#include <roslz4/lz4s.h>
 #include <rosbag/view.h>
+#include <roslz4/lz4s.h>
 #include <std_msgs/String.h>
 #include <yaml-cpp/yaml.h>
 
@@ -11,6 +11,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <string_view>
 
@@ -77,9 +78,9 @@ std::string parseRecord(const char* bytes, std::uint64_t available, std::uint64_
   return "";
 }
 
-/// Largest decompressed chunk the check accepts [bytes]: rosbag allocates a chunk's size field before it
+/// Largest decompressed chunk the check accepts [bytes]. rosbag allocates a compressed chunk's size field before it
 /// decompresses, so a corrupt one must not ask for gigabytes (rosbag's chunks hold about 768 KB by default; a chunk
-/// exceeds that only by its last message).
+/// exceeds that only by its last message). An uncompressed chunk's size is its data length, within the file.
 constexpr std::uint64_t kMaxChunkBytes = std::uint64_t{1} << 30;
 
 /// Decompresses a bz2 or lz4 chunk (the codecs rosbag writes) into `out`, sized to the chunk's size field; false
@@ -327,10 +328,13 @@ void checkBagRecords(const std::string& path) {
       const bool compressed = r.compression == "bz2" || r.compression == "lz4";
       chunk_checked = compressed || r.compression == "none";
       if (!chunk_checked) continue;  // rosbag names a compression it does not know
-      const std::uint64_t chunk_len = r.size.size() == 4 ? littleEndian(r.size.data(), 4) : kMaxChunkBytes + 1;
+      // The size field: the data length of an uncompressed chunk, the decompressed length of a compressed one. A
+      // missing field equals no uint32 data length and exceeds the cap.
+      const std::uint64_t chunk_len =
+          r.size.size() == 4 ? littleEndian(r.size.data(), 4) : std::numeric_limits<std::uint64_t>::max();
       if (!compressed && chunk_len != r.data_len)
         throw corrupt("uncompressed chunk whose size field differs from its data length", pos);
-      if (chunk_len > kMaxChunkBytes)
+      if (compressed && chunk_len > kMaxChunkBytes)
         throw corrupt("chunk whose size field is missing or above " + std::to_string(kMaxChunkBytes) + " bytes", pos);
       readAt(data_at, r.data_len, &data);
       if (compressed) {
