@@ -26,10 +26,10 @@
 #include <vector>
 
 #include "bench_conditions.h"
-#include "tread_wear/core/params_io.h"
-#include "tread_wear/core/reference_solver.h"
-#include "tread_wear/core/units.h"
-#include "tread_wear/core/wear_model.h"
+#include "tread_wear/io/params_io.h"
+#include "tread_wear/model/units.h"
+#include "tread_wear/model/wear_model.h"
+#include "tread_wear/reference/reference_solver.h"
 
 using namespace tread_wear;
 

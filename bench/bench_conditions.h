@@ -20,10 +20,10 @@
 #include <string>
 #include <vector>
 
-#include "tread_wear/core/brush_wear_model.h"
-#include "tread_wear/core/convergence_study.h"
-#include "tread_wear/core/solver_errors.h"
-#include "tread_wear/core/units.h"
+#include "tread_wear/model/brush_wear_model.h"
+#include "tread_wear/model/units.h"
+#include "tread_wear/reference/solver_errors.h"
+#include "tread_wear/studies/convergence_study.h"
 
 namespace tread_wear {
 namespace bench {

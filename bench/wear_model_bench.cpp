@@ -20,8 +20,8 @@
 #include <vector>
 
 #include "bench_conditions.h"
-#include "tread_wear/core/reference_solver.h"
-#include "tread_wear/core/wear_model.h"
+#include "tread_wear/model/wear_model.h"
+#include "tread_wear/reference/reference_solver.h"
 
 using namespace tread_wear;
 

@@ -1,13 +1,22 @@
-# ROS layer: tread_wear_ros (config, node wrapper, markers) and the thin tread_wear_node main.
-file(GLOB TREAD_WEAR_ROS_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/ros/*.cpp)
-add_library(tread_wear_ros ${TREAD_WEAR_ROS_SOURCES})
-target_include_directories(tread_wear_ros PUBLIC ${PROJECT_SOURCE_DIR}/include ${CATKIN_DEVEL_PREFIX}/include
-                           ${catkin_INCLUDE_DIRS})
-target_link_libraries(tread_wear_ros PUBLIC tread_wear_core ${catkin_LIBRARIES})
-add_dependencies(tread_wear_ros ${PROJECT_NAME}_generate_messages_cpp ${PROJECT_NAME}_gencfg)
+# ROS layer: tread_wear_ros (node parts over model + estimation + io), tread_wear_ros_bag (rosbag records check,
+# drive and diagnosis bags) and the thin tread_wear_node main.
+function(tread_wear_ros_module name)
+  tread_wear_module(${name} ${ARGN})
+  string(REPLACE "/" "_" target tread_wear_${name})
+  target_include_directories(${target} PUBLIC ${catkin_INCLUDE_DIRS}
+                             $<BUILD_INTERFACE:${CATKIN_DEVEL_PREFIX}/${CATKIN_GLOBAL_INCLUDE_DESTINATION}>)
+  target_link_libraries(${target} PUBLIC ${catkin_LIBRARIES})
+  add_dependencies(${target} ${PROJECT_NAME}_generate_messages_cpp ${PROJECT_NAME}_gencfg)
+endfunction()
+
+tread_wear_ros_module(ros MODULES model estimation io)
+# rosbag's own codecs, so that the bag check can decompress a chunk before rosbag parses it (checkBagRecords).
+find_package(BZip2 REQUIRED)
+find_package(roslz4 REQUIRED)
+tread_wear_ros_module(ros/bag MODULES model vehicle estimation io PRIVATE BZip2::BZip2 ${roslz4_LIBRARIES})
+target_include_directories(tread_wear_ros_bag PRIVATE ${roslz4_INCLUDE_DIRS})
 
 add_executable(tread_wear_node src/nodes/tread_wear_node.cpp)
 target_link_libraries(tread_wear_node tread_wear_ros)
-install(TARGETS tread_wear_ros tread_wear_node ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
-        LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION} RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
-install(PROGRAMS scripts/rviz_screenshot.sh DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION} OPTIONAL)
+install(TARGETS tread_wear_node RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+install(PROGRAMS scripts/rviz_screenshot.sh DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})

@@ -2,7 +2,7 @@
 # each .test file selects its cases with --gtest_filter.
 find_package(rostest REQUIRED)
 add_rostest_gtest(test_tread_wear_node test/ros/node.test test/ros/test_node.cpp)
-target_link_libraries(test_tread_wear_node tread_wear_core ${catkin_LIBRARIES})
+target_link_libraries(test_tread_wear_node tread_wear_io ${catkin_LIBRARIES})
 target_include_directories(test_tread_wear_node PRIVATE ${PROJECT_SOURCE_DIR}/include ${CATKIN_DEVEL_PREFIX}/include
                            ${catkin_INCLUDE_DIRS})
 target_compile_definitions(test_tread_wear_node PRIVATE TREAD_WEAR_SOURCE_DIR="${PROJECT_SOURCE_DIR}"

@@ -1,8 +1,25 @@
-# Core tests: test/core/test_<name>.cpp -> one gtest binary each, built by default so that build + ctest suffice.
-file(GLOB TREAD_WEAR_CORE_TESTS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/test/core/test_*.cpp)
-foreach(src ${TREAD_WEAR_CORE_TESTS})
-  get_filename_component(name ${src} NAME_WE)
-  tread_wear_add_gtest(${name} ${src} tread_wear_core)
-  target_compile_definitions(${name} PRIVATE TREAD_WEAR_BINARY_DIR="${CATKIN_DEVEL_PREFIX}/lib/${PROJECT_NAME}")
+# Tests mirror the modules: test/<module>/test_<name>.cpp -> one gtest binary each (test/paper: the paper's
+# tables), built by default so that build + ctest suffice. ROS-free tests link the cli module, which carries every
+# ROS-free module; test/common holds their shared helpers. ROS tests: test/ros (rostest) and test/ros/bag.
+file(GLOB TREAD_WEAR_TEST_DIRS LIST_DIRECTORIES true ${PROJECT_SOURCE_DIR}/test/*)
+foreach(dir ${TREAD_WEAR_TEST_DIRS})
+  get_filename_component(module ${dir} NAME)
+  if(NOT IS_DIRECTORY ${dir} OR module STREQUAL "ros" OR module STREQUAL "common")
+    continue()
+  endif()
+  file(GLOB tests CONFIGURE_DEPENDS ${dir}/test_*.cpp)
+  foreach(src ${tests})
+    get_filename_component(name ${src} NAME_WE)
+    tread_wear_add_gtest(${name} ${src} tread_wear_cli)
+    target_compile_definitions(${name} PRIVATE TREAD_WEAR_BINARY_DIR="${CATKIN_DEVEL_PREFIX}/lib/${PROJECT_NAME}")
+  endforeach()
 endforeach()
-include(cmake/rostests.cmake OPTIONAL)
+
+tread_wear_add_gtest(test_drive_replay ${PROJECT_SOURCE_DIR}/test/ros/bag/test_drive_replay.cpp tread_wear_ros_bag)
+target_compile_definitions(test_drive_replay PRIVATE TREAD_WEAR_REPLAY_BINARY="$<TARGET_FILE:tread_wear_replay>")
+add_dependencies(test_drive_replay tread_wear_replay)
+tread_wear_add_gtest(test_diagnosis_bag ${PROJECT_SOURCE_DIR}/test/ros/bag/test_diagnosis_bag.cpp tread_wear_ros_bag
+                     tread_wear_cli)
+target_compile_definitions(test_diagnosis_bag PRIVATE
+                           TREAD_WEAR_PYTHON_PATH="${CATKIN_DEVEL_PREFIX}/${CATKIN_GLOBAL_PYTHON_DESTINATION}")
+include(cmake/rostests.cmake)

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "tread_wear/core/params_io.h"
+#include "tread_wear/io/params_io.h"
 #include "tread_wear/ros/wear_markers.h"
 
 namespace tread_wear {

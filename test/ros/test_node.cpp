@@ -29,10 +29,10 @@
 #include "tread_wear/WheelSlip.h"
 #include "tread_wear/WheelSpeed.h"
 #include "tread_wear/WheelWear.h"
-#include "tread_wear/core/params_io.h"
-#include "tread_wear/core/state_store.h"
-#include "tread_wear/core/units.h"
-#include "tread_wear/core/wear_model.h"
+#include "tread_wear/io/params_io.h"
+#include "tread_wear/io/state_store.h"
+#include "tread_wear/model/units.h"
+#include "tread_wear/model/wear_model.h"
 
 namespace tread_wear {
 namespace {

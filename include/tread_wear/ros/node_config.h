@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "tread_wear/core/wear_model.h"
-#include "tread_wear/core/wheel_estimator.h"
+#include "tread_wear/estimation/wheel_estimator.h"
+#include "tread_wear/model/wear_model.h"
 
 namespace tread_wear {
 

@@ -36,9 +36,9 @@
 #include "tread_wear/WheelSlip.h"
 #include "tread_wear/WheelSpeed.h"
 #include "tread_wear/WheelWear.h"
-#include "tread_wear/core/state_store.h"
-#include "tread_wear/core/wear_model.h"
-#include "tread_wear/core/wheel_estimator.h"
+#include "tread_wear/estimation/wheel_estimator.h"
+#include "tread_wear/io/state_store.h"
+#include "tread_wear/model/wear_model.h"
 #include "tread_wear/ros/node_config.h"
 #include "tread_wear/ros/realtime_publisher.h"
 

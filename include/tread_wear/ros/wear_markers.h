@@ -13,8 +13,8 @@
 
 #include <string>
 
-#include "tread_wear/core/brush_wear_model.h"
-#include "tread_wear/core/wheel_estimator.h"
+#include "tread_wear/estimation/wheel_estimator.h"
+#include "tread_wear/model/brush_wear_model.h"
 
 namespace tread_wear {
 

@@ -1,0 +1,64 @@
+#pragma once
+/// @file conceal.h
+/// Concealed-effect generator: recordings from the model plus one hidden library term (extensions.h) and
+/// rig-like noise, with the answer kept apart, so that the diagnosis can be scored on cases with a known truth.
+///
+/// Designs (the paper's Table 2 program on the Grip and Abrasion Test Stand, rig as turn slip, R_t = 60 mm):
+///   table2  three groups (velocity 1/2/3 m/s; slip angle 5/10/15 deg; load 50/75/100 N; otherwise 2 m/s,
+///           10 deg, 75 N), two cycles per group, each cycle the three conditions twice (I II III I II III, the
+///           second cycle reversed), durations of Table 2 (equal lateral sliding distance, Eq 1): 36 runs,
+///           6 surface cycles.
+///   small   one cycle per group: 18 runs (fast tests).
+/// Truth per case: w3_scale ~ exp(N(0, 0.15^2)) and mu_scale ~ exp(N(0, 0.04^2)) (the file's level is never
+/// exact), plus the hidden term at the requested magnitude. Covariates a rig records: tread temperature
+/// T = T_ambient(cycle) + 1.4 degC/W * Fy v sin(alpha) + N(0, 2^2) degC with T_ambient ~ 23 + N(0, 3^2) degC per
+/// cycle; load std 4% of the load (times U(0.5, 1.5)) per run, or `magnitude` x load for load_fluctuation; an
+/// unrelated humidity reading; the group label. Noise: side force + N(0, side_force_noise_n^2) [N], wear
+/// x (1 + N(0, wear_noise_rsd^2)).
+/// The hidden term's primary parameter is the magnitude (thermal_wear: sigma_T with T0 = 35 degC;
+/// load_fluctuation: the relative load std, with the truth load_std_scale = 1; turn_slip_orientation: none).
+
+#include <cstdint>
+#include <map>
+#include <string>
+
+#include "tread_wear/diagnosis/extensions.h"
+#include "tread_wear/io/run_table.h"
+
+namespace tread_wear {
+namespace diagnosis {
+
+struct ConcealSpec {
+  std::string effect = "none";  ///< library name or "none"
+  double magnitude = std::numeric_limits<double>::quiet_NaN();  ///< primary parameter; NaN = the default
+  std::string design = "table2";  ///< "table2" or "small"
+  double wear_noise_rsd = 0.05;   ///< relative wear noise [-], >= 0
+  double side_force_noise_n = 1.0;  ///< side-force noise [N], >= 0
+  std::uint64_t seed = 1;
+  ExtendedModelOptions model;     ///< preset and orientation of the generating model
+
+  bool validate(std::string* error) const;
+};
+
+/// The truth of one case.
+struct ConcealAnswer {
+  std::string effect;                        ///< library name or "none"
+  std::map<std::string, double> parameters;  ///< every true parameter value (w3_scale, mu_scale, the term's)
+  std::string primary;                       ///< name of the primary parameter ("" for none / orientation)
+  double primary_value = std::numeric_limits<double>::quiet_NaN();
+  double primary_neutral = std::numeric_limits<double>::quiet_NaN();  ///< NaN: compare relative to the value
+  ConcealSpec spec;
+};
+
+struct ConcealCase {
+  RunTable table;       ///< the recordings: truth plus noise
+  RunTable noise_free;  ///< the same runs with the truth itself as measurements (detectability.h)
+  ConcealAnswer answer;
+};
+
+/// Default magnitude of a term's primary parameter in generated cases.
+double defaultMagnitude(Term term);
+/// Generates one case. @throw std::invalid_argument for an invalid spec or an unknown effect.
+ConcealCase concealEffect(const TireParams& base, const ConcealSpec& spec);
+}  // namespace diagnosis
+}  // namespace tread_wear

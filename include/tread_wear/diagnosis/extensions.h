@@ -1,0 +1,143 @@
+#pragma once
+/// @file extensions.h
+/// The library of candidate extensions of the base model (paper Sections 2-4), each a named mechanism with
+/// parameters, a one-line physical statement and the outputs it affects, and the extended model that
+/// evaluates the base brush model (brush_wear_model.h) with any set of them switched on.
+///
+/// Base model: the parameter file's TireParams, evaluated at a preset, with two level parameters always free in
+/// a calibration: w3_scale (multiplies the abrasion coefficient w3 of Eq 19) and mu_scale (multiplies mu_0 and
+/// mu_m of Eq 10). Everything else comes from the file. Terms (ISO axes, SI; T tread temperature):
+///   thermal_wear         w3 -> w3 exp((T - T0)^2 / (2 sigma_T^2))          Eq 25        wear
+///   thermal_friction     mu_0, mu_m -> (1 - k_T (T - 23 degC)) mu_0, mu_m                side force, wear
+///   surface_polishing    w3 -> w3 exp(-r_p L_cum)  (L_cum: cumulative sliding, reset per cycle)  wear
+///   lateral_compliance   alpha_eff = alpha + c_lat Fy(alpha_eff)  (|alpha_eff| < |alpha|)  side force, wear
+///   pressure_friction    sat(p) = (p / p_ref)^-q with q free (Eq 11)                       side force, wear
+///   load_fluctuation     Eq 23 over N(Fz, (s_load std)^2), 3-point Gauss-Hermite           side force, wear
+///   turn_slip_orientation  the other orientation of alpha against the track curve          side force, wear
+///   sensor_gain          measured Fy = g Fy (force transducer gain; not physics)           side force
+///   sensor_offset        measured Fy = Fy + o (force transducer zero offset; not physics)  side force
+/// W_r splits exactly into the w3 part and the w4 part w4 4ab/V (Eq 19-20: w4 acts on the whole patch), so the
+/// terms that scale w3 (w3_scale, thermal_wear, surface_polishing) are applied after the brush evaluation.
+/// Eq 23 for a normal load distribution is the integral of W_r(Fz) over N(mean, std^2); the paper's 10 N bins are
+/// one quadrature of it. The 3-point Gauss-Hermite rule (nodes mean, mean +- sqrt(3) std; weights 2/3, 1/6, 1/6)
+/// is exact for polynomials up to degree 5 and smooth in s_load, which a least-squares Jacobian needs.
+/// Lateral compliance solves alpha_eff = alpha + c_lat Fy(alpha_eff) by secant iteration (|dFy/dalpha| c_lat < 1
+/// for any plausible compliance, so the root is unique).
+/// Limits: steady state per run; the temperature is the recorded mean tread temperature of the run.
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "tread_wear/diagnosis/data.h"
+#include "tread_wear/fitting/least_squares.h"
+#include "tread_wear/model/brush_wear_model.h"
+#include "tread_wear/model/wear_model.h"
+
+namespace tread_wear {
+namespace diagnosis {
+
+enum class Term {
+  kThermalWear = 0,
+  kThermalFriction,
+  kSurfacePolishing,
+  kLateralCompliance,
+  kPressureFriction,
+  kLoadFluctuation,
+  kTurnSlipOrientation,
+  kSensorGain,
+  kSensorOffset,
+  kCount
+};
+
+struct TermParameterSpec {
+  std::string name;   ///< e.g. "compliance_rad_per_n"
+  double initial;     ///< start of a fit [unit]
+  double lower, upper;  ///< bounds [unit]
+  bool log_scale;     ///< fit ln(value)
+  double neutral;     ///< value at which the term has no effect [unit]; NaN when there is none (sigma_T -> inf)
+};
+
+struct TermInfo {
+  Term term;
+  std::string name;        ///< library name, e.g. "surface_polishing"
+  std::string statement;   ///< one-line physical statement
+  bool physical;           ///< false for the sensor terms
+  bool affects[kNumOutputs];  ///< side force, wear
+  std::vector<TermParameterSpec> parameters;  ///< empty for turn_slip_orientation (a discrete switch)
+  int primary;             ///< index of the parameter that measures the effect's size; -1 for none
+  double temperature_ref_c = 23.0;  ///< thermal_friction reference temperature [degC] (the rig's ambient)
+};
+
+/// All terms, in enum order.
+const std::vector<TermInfo>& termLibrary();
+const TermInfo& termInfo(Term term);
+/// Whether the term has a single parameter whose no-effect value is one of its bounds (the effect can only go
+/// one way: surface_polishing, lateral_compliance, load_fluctuation).
+bool neutralOnBound(const TermInfo& info);
+/// The value of the term's primary parameter at which it has no effect: its `neutral`, except pressure_friction's
+/// q, which is the parameter file's. NaN without one (sigma_T -> infinity, the orientation switch).
+double primaryNeutral(Term term, const TireParams& base);
+/// Library name to term; false for an unknown name.
+bool parseTerm(const std::string& name, Term* term);
+/// Whether the data can show the term (temperatures recorded, sequence known, load std recorded, turn slip
+/// present, side force measured); otherwise *why_not says what is missing.
+bool termApplicable(Term term, const DiagnosisData& data, std::string* why_not);
+/// "a+b" for a combination, "none" for no term.
+std::string termsLabel(const std::vector<Term>& terms);
+
+/// Predictions for every run of the data.
+struct Prediction {
+  std::vector<double> side_force_n;
+  std::vector<double> wear_kg_per_m;
+  double value(Output o, int run) const { return o == Output::kSideForce ? side_force_n[run] : wear_kg_per_m[run]; }
+};
+
+struct ExtendedModelOptions {
+  Preset preset = Preset::kFast;                                 ///< resolution of the brush model
+  TurnSlipOrientation orientation = TurnSlipOrientation::kLiteral;  ///< base orientation
+};
+
+/// The base model plus a set of terms, with parameters laid out as [w3_scale, mu_scale, term parameters...].
+/// Not thread-safe (it caches brush evaluations); use one per thread.
+class ExtendedModel {
+ public:
+  /// @throw std::invalid_argument for invalid parameters or a term listed twice.
+  ExtendedModel(const TireParams& base, const ExtendedModelOptions& options, std::vector<Term> terms,
+                const DiagnosisData& data);
+
+  /// Free parameters with start values and bounds (term starts adapted to the data, e.g. T0).
+  std::vector<FitParameter> parameters() const;
+  /// The start points of a fit from `params`: `params` itself, or, with thermal_wear on and T0 not given by the
+  /// caller, three starts with T0 below, inside and above the observed tread temperatures (Eq 25 is a bowl in T).
+  std::vector<std::vector<FitParameter>> fitStarts(const std::vector<FitParameter>& params, bool t0_given) const;
+  const std::vector<Term>& terms() const { return terms_; }
+  /// Index of the first parameter of a term in the layout, -1 if the term is not active.
+  int parameterOffset(Term term) const;
+  /// Predicts all runs. Returns false when the brush model cannot be evaluated at these values.
+  bool predict(const std::vector<double>& values, Prediction* out) const;
+
+ private:
+  struct RawResult {
+    double fy_n;
+    double wear_w3_kg_per_m;  ///< w3 part of W_r (at the file's w3)
+    double wear_w4_kg_per_m;  ///< w4 part of W_r
+  };
+  bool has(Term t) const { return parameterOffset(t) >= 0; }
+  RawResult evaluateRun(const BrushWearModel& model, const DiagnosisRun& run, double compliance,
+                        double load_std_scale) const;
+
+  TireParams base_;
+  ExtendedModelOptions options_;
+  std::vector<Term> terms_;
+  std::vector<int> offsets_;
+  int num_parameters_ = 0;
+  const DiagnosisData& data_;
+  BrushOptions brush_options_;
+  /// Brush results for the last few values of the brush-relevant parameters (the post-processing terms,
+  /// e.g. thermal_wear or the sensor terms, then reuse them: their Jacobian columns cost no brush solve).
+  mutable std::map<std::vector<double>, std::vector<RawResult>> cache_;
+};
+
+}  // namespace diagnosis
+}  // namespace tread_wear

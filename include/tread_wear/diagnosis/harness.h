@@ -1,0 +1,88 @@
+#pragma once
+/// @file harness.h
+/// The proof of the diagnosis: generated cases (conceal.h) for every library term at several magnitudes and
+/// noise levels, repeated with different seeds, plus no-effect controls; each case diagnosed (diagnosis.h) and
+/// scored against its answer:
+///   right      the explanation is exactly the hidden term (controls: "none")
+///   parameter  the primary parameter is within 25% of the true one, measured as the effect:
+///              |estimate - truth| <= 0.25 |truth - neutral| (neutral = the value without effect, e.g. gain 1,
+///              q of the file); thermal_wear's sigma_T (no neutral value) relative to itself. Only scored when
+///              the term was selected; turn_slip_orientation has none.
+///   parameter, relative  the plain reading of "within 25%": |estimate - truth| <= 0.25 |truth| (looser than the
+///              above where the neutral value is not 0: gain, q)
+///   all three  right, parameter (effect reading) and improved in the same case
+///   covered    the true primary parameter lies within 2 reported standard errors of the estimate (are the
+///              uncertainties the tool reports honest? about 95% if they are); scored when the term was selected
+///   improved   the held-out RMSER of every output the term affects is lower after than before
+///   none       (controls) the verdict is "none"
+/// With HarnessOptions::information, each case also gets its detectability reference (detectability.h), computed
+/// on the case's own noise-free recordings: the probability that a selector knowing the noise levels names the
+/// hidden term. Its mean over the cases is the rate that the recordings allow, beside the rate measured. Likewise
+/// for the parameter: the probability of the right explanation times that of an estimate within 25% of the effect,
+/// 2 Phi(0.25 |effect| / SE) - 1 for an unbiased estimate with the reference's standard error SE.
+
+#include <cstdint>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "tread_wear/diagnosis/conceal.h"
+#include "tread_wear/diagnosis/detectability.h"
+#include "tread_wear/diagnosis/diagnosis.h"
+
+namespace tread_wear {
+namespace diagnosis {
+
+struct HarnessCase {
+  ConcealSpec spec;
+  std::string magnitude_label;  ///< "default", "small", "large"
+};
+
+struct HarnessOutcome {
+  HarnessCase c;
+  std::string explanation;
+  bool right = false;
+  bool named = false;  ///< right, or the hidden term is a close alternative of the explanation (diagnosis.h)
+  bool parameter_scored = false, parameter_ok = false, parameter_ok_relative = false;
+  bool all_met = false;  ///< right, parameter_ok (when scored) and improved (when scored) together
+  bool parameter_estimated = false, parameter_covered = false;  ///< the term was selected; truth within 2 SE
+  bool improved_scored = false, improved = false;
+  double estimate = std::numeric_limits<double>::quiet_NaN(), truth = std::numeric_limits<double>::quiet_NaN();
+  double std_error = std::numeric_limits<double>::quiet_NaN();  ///< reported standard error of the estimate
+  double cv_before[kNumOutputs] = {0.0, 0.0}, cv_after[kNumOutputs] = {0.0, 0.0};
+  bool information = false;  ///< the reference below was computed
+  Detectability reference;   ///< detectability of the hidden term on this case's noise-free recordings
+  double reference_parameter_ok = std::numeric_limits<double>::quiet_NaN();  ///< probability, see above [-]
+  std::string reference_error;  ///< why the reference could not be computed (the verdict still counts)
+  double seconds = 0.0;
+  std::string error;  ///< non-empty when the case failed to run
+};
+
+struct HarnessOptions {
+  std::string design = "table2";
+  int repeats = 5;                              ///< seeds per (effect, magnitude, noise), >= 1
+  int control_repeats = 20;                     ///< no-effect controls per noise level, >= 0
+  std::vector<double> wear_noise = {0.05, 0.10};  ///< wear RSD levels [-]
+  double side_force_noise_n = 1.0;              ///< at wear RSD 5%; scaled with the wear noise level
+  std::vector<std::string> effects;             ///< empty = every library term
+  bool two_magnitudes = true;                   ///< small and large magnitude (else the default only)
+  int jobs = 1;                                 ///< worker threads
+  bool information = false;                     ///< also each case's detectability reference (about a third more time)
+  std::uint64_t seed = 1000;
+  DiagnosisOptions diagnosis;
+};
+
+/// The case list of a harness run.
+std::vector<HarnessCase> harnessCases(const HarnessOptions& options);
+/// Scores one diagnosed case against its answer.
+HarnessOutcome scoreCase(const HarnessCase& c, const ConcealAnswer& answer, const DiagnosisResult& result);
+/// Generates, diagnoses and scores every case (in parallel with options.jobs threads).
+std::vector<HarnessOutcome> runHarness(const TireParams& base, const HarnessOptions& options,
+                                       std::ostream* progress = nullptr);
+/// Success-rate table (Markdown) per effect, magnitude and noise level, plus totals.
+std::string harnessTable(const std::vector<HarnessOutcome>& outcomes);
+/// One CSV line per case.
+std::string harnessCsv(const std::vector<HarnessOutcome>& outcomes);
+
+}  // namespace diagnosis
+}  // namespace tread_wear

@@ -1,0 +1,199 @@
+#include "tread_wear/diagnosis/data.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <set>
+
+#include "tread_wear/model/units.h"
+
+namespace tread_wear {
+namespace diagnosis {
+namespace {
+
+/// Columns that restate a measurement: a trend of the residual over them says nothing about the model.
+const std::set<std::string> kMeasurementColumns = {"mass_loss_kg"};
+
+int findColumn(const std::vector<std::string>& names, const std::string& name) {
+  const auto it = std::find(names.begin(), names.end(), name);
+  return it == names.end() ? -1 : static_cast<int>(it - names.begin());
+}
+
+bool varies(const std::vector<double>& v) {
+  double lo = INFINITY, hi = -INFINITY;
+  for (double x : v) {
+    if (!std::isfinite(x)) continue;
+    lo = std::min(lo, x);
+    hi = std::max(hi, x);
+  }
+  return hi > lo;
+}
+
+void addNumeric(DiagnosisData* d, const std::string& name, const std::string& kind, std::vector<double> values) {
+  if (!varies(values)) return;
+  d->covariates.push_back({name, kind, false, std::move(values), {}});
+}
+
+void addCategorical(DiagnosisData* d, const std::string& name, const std::string& kind,
+                    const std::vector<std::string>& labels) {
+  Covariate c{name, kind, true, {}, {}};
+  std::map<std::string, int> index;
+  for (const std::string& l : labels) {
+    auto it = index.find(l);
+    if (it == index.end()) {
+      it = index.emplace(l, static_cast<int>(c.levels.size())).first;
+      c.levels.push_back(l);
+    }
+    c.values.push_back(it->second);
+  }
+  // One level says nothing; one level per run (labels) cannot be compared.
+  if (c.levels.size() < 2 || c.levels.size() * 2 > labels.size()) return;
+  d->covariates.push_back(std::move(c));
+}
+
+}  // namespace
+
+const char* outputName(Output output) { return output == Output::kSideForce ? "side_force" : "wear"; }
+
+DiagnosisData buildDiagnosisData(const RunTable& table) {
+  DiagnosisData d;
+  const int n = static_cast<int>(table.runs.size());
+  const int col_distance = findColumn(table.covariate_names, "distance_m");
+  const int col_duration = findColumn(table.covariate_names, "duration_s");
+  int with_measurement = 0;
+  bool all_temperature = n > 0, all_sequence = n > 0;
+  for (int i = 0; i < n; ++i) {
+    const RunRecord& rec = table.runs[i];
+    DiagnosisRun run;
+    run.op = rec.op;
+    run.op.tread_temperature_c = std::numeric_limits<double>::quiet_NaN();
+    run.tread_temperature_c = rec.op.tread_temperature_c;
+    run.load_std_n = rec.load_std_n;
+    run.measured[0] = rec.measured_side_force_n;
+    run.measured[1] = rec.measured_wear_rate_kg_per_m;
+    run.condition = rec.condition_id;
+    run.cycle = rec.cycle_id;
+    run.run_order = rec.run_order;
+    const std::string where = "run " + std::to_string(i + 1) + " (condition '" + rec.condition_id + "')";
+    if (!(rec.op.speed_mps > 0.0))
+      throw DiagnosisError(where + ": speed_mps = " + std::to_string(rec.op.speed_mps) +
+                           " must be > 0 for the diagnosis (a run must roll)");
+    if (std::isfinite(run.measured[0]) && run.measured[0] == 0.0)
+      throw DiagnosisError(where + ": side_force_n = 0; relative errors (Eq 24) need a non-zero measurement");
+    if (std::isfinite(run.measured[1]) && !(run.measured[1] > 0.0))
+      throw DiagnosisError(where + ": measured wear rate must be > 0, got " + std::to_string(run.measured[1]));
+    for (int o = 0; o < kNumOutputs; ++o)
+      if (std::isfinite(run.measured[o])) ++d.measured_count[o];
+    if (std::isfinite(run.measured[0]) || std::isfinite(run.measured[1])) ++with_measurement;
+    double distance = col_distance >= 0 ? rec.covariates[col_distance] : std::numeric_limits<double>::quiet_NaN();
+    if (!std::isfinite(distance) && col_duration >= 0) distance = rec.op.speed_mps * rec.covariates[col_duration];
+    run.sliding_distance_m = distance * std::abs(std::sin(rec.op.slip_angle_rad));
+    all_temperature = all_temperature && std::isfinite(run.tread_temperature_c);
+    if (std::isfinite(run.load_std_n) && run.load_std_n > 0.0) d.has_load_std = true;
+    if (rec.op.path_curvature_per_m != 0.0) d.has_turn_slip = true;
+    d.runs.push_back(run);
+  }
+  if (with_measurement < 4)
+    throw DiagnosisError("the recordings have " + std::to_string(with_measurement) +
+                         " runs with a measured side force or wear rate; the diagnosis needs at least 4");
+
+  // Cumulative sliding distance per cycle (surface renewed between cycles), in run order.
+  const bool orders_known =
+      std::all_of(d.runs.begin(), d.runs.end(), [](const DiagnosisRun& r) { return r.run_order >= 0; });
+  const bool any_order =
+      std::any_of(d.runs.begin(), d.runs.end(), [](const DiagnosisRun& r) { return r.run_order >= 0; });
+  const bool any_cycle = std::any_of(d.runs.begin(), d.runs.end(), [](const DiagnosisRun& r) { return r.cycle >= 0; });
+  std::vector<int> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  if (orders_known)
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int a, int b) { return d.runs[a].run_order < d.runs[b].run_order; });
+  std::map<int, double> surface_distance;
+  for (int i : order) {
+    DiagnosisRun& r = d.runs[i];
+    if (!std::isfinite(r.sliding_distance_m)) {
+      all_sequence = false;
+      continue;
+    }
+    double& used = surface_distance[r.cycle];
+    r.cumulative_sliding_m = used + 0.5 * r.sliding_distance_m;
+    used += r.sliding_distance_m;
+  }
+  // A sequence needs an order: known run orders, or cycles in row order.
+  all_sequence = all_sequence && (any_order || any_cycle);
+  if (!all_sequence)
+    for (DiagnosisRun& r : d.runs) r.cumulative_sliding_m = std::numeric_limits<double>::quiet_NaN();
+  d.has_temperature = all_temperature;
+  d.has_sequence = all_sequence;
+
+  // Covariates for the locating tests.
+  auto column = [&](auto f) {
+    std::vector<double> v;
+    for (const DiagnosisRun& r : d.runs) v.push_back(f(r));
+    return v;
+  };
+  addNumeric(&d, "load_n", "operating region", column([](const DiagnosisRun& r) { return r.op.load_n; }));
+  addNumeric(&d, "abs_slip_angle_deg", "operating region",
+             column([](const DiagnosisRun& r) { return std::abs(r.op.slip_angle_rad) * 180.0 / M_PI; }));
+  addNumeric(&d, "speed_mps", "operating region", column([](const DiagnosisRun& r) { return r.op.speed_mps; }));
+  addNumeric(&d, "slip_ratio", "operating region", column([](const DiagnosisRun& r) { return r.op.slip_ratio; }));
+  addNumeric(&d, "path_curvature_per_m", "operating region",
+             column([](const DiagnosisRun& r) { return r.op.path_curvature_per_m; }));
+  if (d.has_temperature)
+    addNumeric(&d, "tread_temperature_c", "operating region",
+               column([](const DiagnosisRun& r) { return r.tread_temperature_c; }));
+  if (d.has_load_std)
+    addNumeric(&d, "load_std_n", "operating region", column([](const DiagnosisRun& r) {
+                 return std::isfinite(r.load_std_n) ? r.load_std_n : 0.0;
+               }));
+  if (any_order && orders_known)
+    addNumeric(&d, "run_order", "sequence", column([](const DiagnosisRun& r) { return double(r.run_order); }));
+  if (d.has_sequence)
+    addNumeric(&d, "cumulative_sliding_m", "sequence",
+               column([](const DiagnosisRun& r) { return r.cumulative_sliding_m; }));
+  std::vector<std::string> cycles, conditions;
+  for (const DiagnosisRun& r : d.runs) {
+    cycles.push_back(r.cycle < 0 ? "unknown" : std::to_string(r.cycle));
+    conditions.push_back(r.condition);
+  }
+  addCategorical(&d, "cycle_id", "sequence", cycles);
+  addCategorical(&d, "condition_id", "operating region", conditions);
+  for (std::size_t c = 0; c < table.covariate_names.size(); ++c) {
+    const std::string& name = table.covariate_names[c];
+    if (kMeasurementColumns.count(name)) continue;
+    std::vector<double> v;
+    bool complete = true;
+    for (const RunRecord& rec : table.runs) {
+      v.push_back(rec.covariates[c]);
+      complete = complete && std::isfinite(rec.covariates[c]);
+    }
+    if (complete) addNumeric(&d, name, "recorded", std::move(v));
+  }
+  for (std::size_t c = 0; c < table.text_covariate_names.size(); ++c) {
+    std::vector<std::string> labels;
+    for (const RunRecord& rec : table.runs) labels.push_back(rec.text_covariates[c]);
+    addCategorical(&d, table.text_covariate_names[c], "recorded", labels);
+  }
+
+  // Cross-validation groups: whole cycles when there are enough of them, else conditions, else runs.
+  std::set<int> cycle_set;
+  std::set<std::string> condition_set;
+  for (const DiagnosisRun& r : d.runs) {
+    if (r.cycle >= 0) cycle_set.insert(r.cycle);
+    condition_set.insert(r.condition);
+  }
+  const bool all_cycles = std::all_of(d.runs.begin(), d.runs.end(), [](const DiagnosisRun& r) { return r.cycle >= 0; });
+  for (const DiagnosisRun& r : d.runs) {
+    if (all_cycles && cycle_set.size() >= 4) d.cv_groups.push_back("cycle " + std::to_string(r.cycle));
+    else if (condition_set.size() >= 4) d.cv_groups.push_back(r.condition);
+    else d.cv_groups.push_back(std::to_string(d.cv_groups.size()));
+  }
+  d.cv_scheme = (all_cycles && cycle_set.size() >= 4) ? "leave one cycle out"
+                : condition_set.size() >= 4          ? "leave one condition out"
+                                                     : "leave one run out";
+  return d;
+}
+
+}  // namespace diagnosis
+}  // namespace tread_wear

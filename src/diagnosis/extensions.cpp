@@ -1,0 +1,322 @@
+#include "tread_wear/diagnosis/extensions.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace tread_wear {
+namespace diagnosis {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+/// Base level parameters, always free: [w3_scale, mu_scale].
+constexpr int kBaseParameters = 2;
+/// Brush results kept for this many distinct brush-relevant parameter vectors before the cache is reset.
+constexpr std::size_t kCacheEntries = 64;
+/// Compliance root: |alpha_eff - alpha - c Fy| below this [rad] (0.0001 deg) ends the secant iteration.
+constexpr double kComplianceTolerance_rad = 2e-6;
+constexpr int kComplianceIterations = 12;
+
+std::vector<TermInfo> makeLibrary() {
+  std::vector<TermInfo> lib;
+  lib.push_back({Term::kThermalWear, "thermal_wear",
+                 "abrasion resistance depends on the tread temperature: w3 -> w3 exp((T - T0)^2 / (2 sigma_T^2)) "
+                 "(Eq 25)",
+                 true, {false, true},
+                 {{"t0_c", 40.0, -50.0, 200.0, false, kNaN}, {"sigma_t_c", 30.0, 2.0, 1000.0, true, kNaN}}, 1});
+  lib.push_back({Term::kThermalFriction, "thermal_friction",
+                 "rubber friction falls as the tread warms: mu_0, mu_m -> (1 - k_T (T - 23 degC)) mu_0, mu_m", true,
+                 {true, true}, {{"k_t_per_k", 0.0, -0.015, 0.015, false, 0.0}}, 0});
+  lib.push_back({Term::kSurfacePolishing, "surface_polishing",
+                 "the track gets polished: abrasiveness decays as exp(-r_p L) with the sliding distance L on the "
+                 "current surface, reset when the surface is renewed (each cycle)",
+                 true, {false, true}, {{"polishing_rate_per_km", 0.2, 0.0, 10.0, false, 0.0}}, 0});
+  lib.push_back({Term::kLateralCompliance, "lateral_compliance",
+                 "the wheel or carcass bends under the side force, lowering the effective slip angle: "
+                 "|alpha_eff| = |alpha| - c_lat |Fy|",
+                 true, {true, true}, {{"compliance_rad_per_n", 1e-4, 0.0, 3e-3, false, 0.0}}, 0});
+  lib.push_back({Term::kPressureFriction, "pressure_friction",
+                 "friction falls with contact pressure more (or less) than the file says: the sat(p) exponent q "
+                 "of Eq 11 is free",
+                 true, {true, true}, {{"q", 0.14, 0.0, 1.0, false, 0.14}}, 0});
+  lib.push_back({Term::kLoadFluctuation, "load_fluctuation",
+                 "the vertical load fluctuates during a run: forces and wear are the Eq 23 average over "
+                 "N(Fz, (s_load load_std)^2) instead of the value at the mean load",
+                 true, {true, true}, {{"load_std_scale", 1.0, 0.0, 6.0, false, 0.0}}, 0});
+  lib.push_back({Term::kTurnSlipOrientation, "turn_slip_orientation",
+                 "the slip angle is oriented the other way against the track curve (turn slip adds to sideslip "
+                 "instead of opposing it)",
+                 true, {true, true}, {}, -1});
+  lib.push_back({Term::kSensorGain, "sensor_gain",
+                 "not physics: the side-force transducer reads g times the true force (calibration gain error)",
+                 false, {true, false}, {{"side_force_gain", 1.0, 0.5, 1.5, false, 1.0}}, 0});
+  lib.push_back({Term::kSensorOffset, "sensor_offset",
+                 "not physics: the side-force transducer reads the true force plus a constant zero offset o [N]",
+                 false, {true, false}, {{"side_force_offset_n", 0.0, -30.0, 30.0, false, 0.0}}, 0});
+  return lib;
+}
+
+}  // namespace
+
+const std::vector<TermInfo>& termLibrary() {
+  static const std::vector<TermInfo> lib = makeLibrary();
+  return lib;
+}
+
+const TermInfo& termInfo(Term term) { return termLibrary().at(static_cast<int>(term)); }
+
+bool neutralOnBound(const TermInfo& info) {
+  if (info.parameters.size() != 1) return false;
+  const TermParameterSpec& p = info.parameters.front();
+  return p.neutral == p.lower || p.neutral == p.upper;
+}
+
+double primaryNeutral(Term term, const TireParams& base) {
+  const TermInfo& info = termInfo(term);
+  if (info.primary < 0) return kNaN;
+  return term == Term::kPressureFriction ? base.friction.q : info.parameters[info.primary].neutral;
+}
+
+bool parseTerm(const std::string& name, Term* term) {
+  for (const TermInfo& t : termLibrary())
+    if (t.name == name) {
+      *term = t.term;
+      return true;
+    }
+  return false;
+}
+
+std::string termsLabel(const std::vector<Term>& terms) {
+  if (terms.empty()) return "none";
+  std::string s;
+  for (Term t : terms) s += (s.empty() ? "" : "+") + termInfo(t).name;
+  return s;
+}
+
+bool termApplicable(Term term, const DiagnosisData& data, std::string* why_not) {
+  auto no = [&](const std::string& why) {
+    if (why_not) *why_not = why;
+    return false;
+  };
+  const bool fy = data.measured_count[0] > 0;
+  switch (term) {
+    case Term::kThermalWear:
+      if (!data.has_temperature) return no("no tread temperature recorded in every run");
+      if (data.measured_count[1] == 0) return no("no wear measured");
+      return true;
+    case Term::kThermalFriction:
+      return data.has_temperature ? true : no("no tread temperature recorded in every run");
+    case Term::kSurfacePolishing:
+      if (!data.has_sequence) return no("no sequence: needs cycle_id or run_order and distance_m or duration_s");
+      if (data.measured_count[1] == 0) return no("no wear measured");
+      return true;
+    case Term::kLoadFluctuation:
+      return data.has_load_std ? true : no("no load standard deviation recorded");
+    case Term::kTurnSlipOrientation:
+      return data.has_turn_slip ? true : no("no run has a path curvature (turn slip)");
+    case Term::kSensorGain:
+    case Term::kSensorOffset:
+      return fy ? true : no("no side force measured");
+    default:
+      return true;
+  }
+}
+
+ExtendedModel::ExtendedModel(const TireParams& base, const ExtendedModelOptions& options, std::vector<Term> terms,
+                             const DiagnosisData& data)
+    : base_(base), options_(options), terms_(std::move(terms)), data_(data) {
+  std::string error;
+  if (!base_.validate(&error)) throw std::invalid_argument(error);
+  offsets_.assign(static_cast<int>(Term::kCount), -1);
+  num_parameters_ = kBaseParameters;
+  for (Term t : terms_) {
+    if (offsets_[static_cast<int>(t)] >= 0) throw std::invalid_argument("term listed twice: " + termInfo(t).name);
+    offsets_[static_cast<int>(t)] = num_parameters_;
+    num_parameters_ += static_cast<int>(termInfo(t).parameters.size());
+  }
+  TurnSlipOrientation orientation = options_.orientation;
+  if (has(Term::kTurnSlipOrientation))
+    orientation = orientation == TurnSlipOrientation::kLiteral ? TurnSlipOrientation::kFlipped
+                                                               : TurnSlipOrientation::kLiteral;
+  brush_options_ = presetOptions(options_.preset, orientation);
+}
+
+int ExtendedModel::parameterOffset(Term term) const { return offsets_[static_cast<int>(term)]; }
+
+std::vector<FitParameter> ExtendedModel::parameters() const {
+  std::vector<FitParameter> p;
+  p.push_back({"w3_scale", 1.0, 0.05, 20.0, true});
+  p.push_back({"mu_scale", 1.0, 0.3, 3.0, true});
+  double t_lo = INFINITY, t_hi = -INFINITY;
+  for (const DiagnosisRun& r : data_.runs)
+    if (std::isfinite(r.tread_temperature_c)) {
+      t_lo = std::min(t_lo, r.tread_temperature_c);
+      t_hi = std::max(t_hi, r.tread_temperature_c);
+    }
+  for (Term t : terms_) {
+    for (const TermParameterSpec& s : termInfo(t).parameters) {
+      FitParameter f{s.name, s.initial, s.lower, s.upper, s.log_scale};
+      if (t == Term::kThermalWear && std::isfinite(t_lo)) {
+        // Start from the file's Eq 25 when it is on; else at the coolest run with a width of the observed span.
+        const double span = std::max(t_hi - t_lo, 5.0);
+        if (s.name == "t0_c") {
+          f.initial = base_.wear.temperature_enabled ? base_.wear.t0_c : t_lo;
+          f.lower = t_lo - 3.0 * span;
+          f.upper = t_hi + 3.0 * span;
+          f.initial = std::clamp(f.initial, f.lower, f.upper);
+        } else {
+          f.initial = base_.wear.temperature_enabled ? base_.wear.sigma_t_c : span;
+        }
+      }
+      if (t == Term::kPressureFriction) f.initial = base_.friction.q;
+      p.push_back(f);
+    }
+  }
+  return p;
+}
+
+std::vector<std::vector<FitParameter>> ExtendedModel::fitStarts(const std::vector<FitParameter>& params,
+                                                                bool t0_given) const {
+  const int tw = parameterOffset(Term::kThermalWear);
+  if (tw < 0 || t0_given) return {params};
+  double lo = INFINITY, hi = -INFINITY;
+  for (const DiagnosisRun& r : data_.runs) {
+    lo = std::min(lo, r.tread_temperature_c);
+    hi = std::max(hi, r.tread_temperature_c);
+  }
+  const double span = std::max(hi - lo, 5.0);
+  std::vector<std::vector<FitParameter>> starts;
+  for (double t0 : {lo - 0.5 * span, 0.5 * (lo + hi), hi + 0.5 * span}) {
+    std::vector<FitParameter> s = params;
+    s[tw].initial = std::clamp(t0, s[tw].lower, s[tw].upper);
+    s[tw + 1].initial = span;
+    starts.push_back(s);
+  }
+  return starts;
+}
+
+ExtendedModel::RawResult ExtendedModel::evaluateRun(const BrushWearModel& model, const DiagnosisRun& run,
+                                                    double compliance, double load_std_scale) const {
+  const TireParams& tp = model.params();
+  auto at = [&](double load_n) {
+    OperatingPoint op = run.op;
+    op.load_n = load_n;
+    WearResult r;
+    if (compliance > 0.0) {
+      // Secant iteration on g(a) = a - alpha - c Fy(a); the first step is the fixed-point step.
+      const double alpha = run.op.slip_angle_rad;
+      double a0 = alpha;
+      model.evaluate(op, &r);
+      double g0 = -compliance * r.fy_n;
+      double a1 = std::clamp(alpha + compliance * r.fy_n, -1.5, 1.5);
+      for (int it = 0; it < kComplianceIterations; ++it) {
+        op.slip_angle_rad = a1;
+        model.evaluate(op, &r);
+        const double g1 = a1 - alpha - compliance * r.fy_n;
+        if (std::abs(g1) < kComplianceTolerance_rad || g1 == g0) break;
+        const double a2 = std::clamp(a1 - g1 * (a1 - a0) / (g1 - g0), -1.5, 1.5);
+        a0 = a1;
+        g0 = g1;
+        a1 = a2;
+      }
+    } else {
+      model.evaluate(op, &r);
+    }
+    // w4 acts on the whole patch: its part of W_r is w4 4ab / V (Eqs 19-20).
+    const double a = tp.footprint.halfLength(load_n);
+    const double w4_part = tp.wear.w4_kg_per_s_m2 * 4.0 * a * tp.footprint.b_m / run.op.speed_mps;
+    return RawResult{r.fy_n, r.wear_rate_kg_per_m - w4_part, w4_part};
+  };
+  const double sd = std::isfinite(run.load_std_n) ? load_std_scale * run.load_std_n : 0.0;
+  if (!(sd > 0.0)) return at(run.op.load_n);
+  // Eq 23 over N(Fz, sd^2) with 3-point Gauss-Hermite; the spread is capped so that every node load stays > 0.
+  const double spread = std::min(std::sqrt(3.0) * sd, 0.9 * run.op.load_n);
+  const RawResult lo = at(run.op.load_n - spread), mid = at(run.op.load_n), hi = at(run.op.load_n + spread);
+  auto avg = [](double l, double m, double h) { return (l + h) / 6.0 + 2.0 * m / 3.0; };
+  return RawResult{avg(lo.fy_n, mid.fy_n, hi.fy_n),
+                   avg(lo.wear_w3_kg_per_m, mid.wear_w3_kg_per_m, hi.wear_w3_kg_per_m),
+                   avg(lo.wear_w4_kg_per_m, mid.wear_w4_kg_per_m, hi.wear_w4_kg_per_m)};
+}
+
+bool ExtendedModel::predict(const std::vector<double>& values, Prediction* out) const {
+  if (static_cast<int>(values.size()) != num_parameters_) return false;
+  for (double v : values)
+    if (!std::isfinite(v)) return false;
+  const double w3_scale = values[0], mu_scale = values[1];
+  auto value = [&](Term t, int k) { return values[parameterOffset(t) + k]; };
+  const double k_t = has(Term::kThermalFriction) ? value(Term::kThermalFriction, 0) : 0.0;
+  const double compliance = has(Term::kLateralCompliance) ? value(Term::kLateralCompliance, 0) : 0.0;
+  const double q = has(Term::kPressureFriction) ? value(Term::kPressureFriction, 0) : base_.friction.q;
+  const double load_std_scale = has(Term::kLoadFluctuation) ? value(Term::kLoadFluctuation, 0) : 0.0;
+  const std::vector<double> key = {mu_scale, k_t, compliance, q, load_std_scale};
+  const int n = static_cast<int>(data_.runs.size());
+
+  auto found = cache_.find(key);
+  if (found == cache_.end()) {
+    std::vector<RawResult> raw(n);
+    try {
+      TireParams p = base_;
+      p.friction.mu_0 *= mu_scale;
+      p.friction.mu_m *= mu_scale;
+      p.friction.q = q;
+      p.wear.temperature_enabled = false;  // Eq 25 is applied below, after the brush evaluation
+      if (k_t != 0.0) {
+        const double t_ref = termInfo(Term::kThermalFriction).temperature_ref_c;
+        for (int i = 0; i < n; ++i) {
+          const double factor = 1.0 - k_t * (data_.runs[i].tread_temperature_c - t_ref);
+          if (!(factor > 0.05)) return false;  // friction would vanish: outside the term's validity
+          TireParams pi = p;
+          pi.friction.mu_0 *= factor;
+          pi.friction.mu_m *= factor;
+          const BrushWearModel model(pi, brush_options_);
+          raw[i] = evaluateRun(model, data_.runs[i], compliance, load_std_scale);
+        }
+      } else {
+        const BrushWearModel model(p, brush_options_);
+        // Repeats of a condition share one evaluation.
+        std::map<std::array<double, 6>, RawResult> seen;
+        for (int i = 0; i < n; ++i) {
+          const DiagnosisRun& r = data_.runs[i];
+          const std::array<double, 6> op_key = {r.op.speed_mps, r.op.slip_angle_rad, r.op.slip_ratio,
+                                                r.op.path_curvature_per_m, r.op.load_n,
+                                                std::isfinite(r.load_std_n) ? r.load_std_n : 0.0};
+          auto it = seen.find(op_key);
+          if (it == seen.end()) it = seen.emplace(op_key, evaluateRun(model, r, compliance, load_std_scale)).first;
+          raw[i] = it->second;
+        }
+      }
+    } catch (const std::exception&) {
+      return false;
+    }
+    if (cache_.size() >= kCacheEntries) cache_.clear();
+    found = cache_.emplace(key, std::move(raw)).first;
+  }
+  const std::vector<RawResult>& raw = found->second;
+  out->side_force_n.resize(n);
+  out->wear_kg_per_m.resize(n);
+  for (int i = 0; i < n; ++i) {
+    const DiagnosisRun& r = data_.runs[i];
+    double fy = raw[i].fy_n;
+    if (has(Term::kSensorGain)) fy *= value(Term::kSensorGain, 0);
+    if (has(Term::kSensorOffset)) fy += value(Term::kSensorOffset, 0);
+    double w3_factor = w3_scale;
+    if (has(Term::kThermalWear)) {
+      const double d = r.tread_temperature_c - value(Term::kThermalWear, 0);
+      const double s = value(Term::kThermalWear, 1);
+      w3_factor *= std::exp(d * d / (2.0 * s * s));
+    } else if (base_.wear.temperature_enabled) {
+      w3_factor *= base_.wear.temperatureFactor(r.tread_temperature_c);
+    }
+    if (has(Term::kSurfacePolishing))
+      w3_factor *= std::exp(-value(Term::kSurfacePolishing, 0) * r.cumulative_sliding_m / 1000.0);
+    out->side_force_n[i] = fy;
+    out->wear_kg_per_m[i] = w3_factor * raw[i].wear_w3_kg_per_m + raw[i].wear_w4_kg_per_m;
+    if (!std::isfinite(out->side_force_n[i]) || !std::isfinite(out->wear_kg_per_m[i])) return false;
+  }
+  return true;
+}
+
+}  // namespace diagnosis
+}  // namespace tread_wear

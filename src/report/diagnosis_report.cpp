@@ -1,0 +1,313 @@
+#include "tread_wear/report/diagnosis_report.h"
+
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+namespace tread_wear {
+namespace diagnosis {
+namespace {
+
+nlohmann::json num(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
+
+nlohmann::json perOutput(const double* v) {
+  return {{"side_force", num(v[0])}, {"wear", num(v[1])}};
+}
+
+nlohmann::json effectJson(const LocatedEffect& e) {
+  nlohmann::json j{{"output", outputName(e.output)}, {"covariate", e.covariate}, {"kind", e.kind},
+                   {"p_value", e.p_value}, {"p_adjusted", e.p_adjusted}, {"significant", e.significant}};
+  if (e.categorical) {
+    j["test"] = "group differences (permutation)";
+    j["eta_squared"] = e.eta_squared;
+    j["largest_group_difference"] = e.effect;
+  } else {
+    j["test"] = "Spearman trend (permutation)";
+    j["spearman_rho"] = e.rho;
+    j["slope_per_unit"] = e.slope;
+    j["change_over_range"] = e.effect;
+  }
+  return j;
+}
+
+std::string pct(double v, int digits = 2) {
+  if (!std::isfinite(v)) return "-";
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(digits) << 100.0 * v << "%";
+  return s.str();
+}
+
+std::string g(double v, int precision = 4) {
+  if (!std::isfinite(v)) return "-";
+  std::ostringstream s;
+  s << std::setprecision(precision) << v;
+  return s.str();
+}
+
+std::string effectText(const LocatedEffect& e) {
+  std::ostringstream s;
+  if (e.categorical)
+    s << "eta^2 = " << g(e.eta_squared, 3) << ", largest group difference " << pct(e.effect, 1) << " points";
+  else
+    s << "rho = " << g(e.rho, 3) << ", change over the range " << pct(e.effect, 1) << " points";
+  return s.str();
+}
+
+}  // namespace
+
+nlohmann::json diagnosisJson(const DiagnosisResult& r, const DiagnosisData& data) {
+  nlohmann::json j;
+  j["format"] = "tread_wear diagnosis v1";
+  j["mismatch_found"] = r.mismatch_found;
+  j["explanation"] = r.explanation;
+  nlohmann::json terms = nlohmann::json::array();
+  for (Term t : r.final_model.terms) {
+    const TermInfo& info = termInfo(t);
+    nlohmann::json outputs = nlohmann::json::array();
+    for (int o = 0; o < kNumOutputs; ++o)
+      if (info.affects[o]) outputs.push_back(outputName(static_cast<Output>(o)));
+    terms.push_back({{"name", info.name}, {"statement", info.statement}, {"physical", info.physical},
+                     {"outputs", outputs}});
+  }
+  j["explanation_terms"] = terms;
+  nlohmann::json located = nlohmann::json::array(), tests = nlohmann::json::array();
+  for (const LocatedEffect& e : r.located_before) {
+    if (e.significant) located.push_back(effectJson(e));
+    tests.push_back(effectJson(e));
+  }
+  j["located"] = located;
+  j["locating_tests"] = tests;
+  nlohmann::json after = nlohmann::json::array();
+  for (const LocatedEffect& e : r.located_after)
+    if (e.significant) after.push_back(effectJson(e));
+  j["remaining_after"] = after;
+  j["unexplained_covariates"] = r.unexplained_covariates;
+  nlohmann::json alternatives = nlohmann::json::array();
+  for (const CloseAlternative& a : r.close_alternatives)
+    alternatives.push_back({{"model", a.model}, {"instead_of", a.instead_of}, {"delta_aicc", a.delta_aicc}});
+  j["close_alternatives"] = alternatives;
+  nlohmann::json params = nlohmann::json::object();
+  for (const ParameterEstimate& p : r.final_model.summary.parameters)
+    params[p.name] = {{"value", p.value}, {"std_error", num(p.std_error)}, {"lower", p.lower}, {"upper", p.upper},
+                      {"at_bound", p.atBound()}};
+  j["parameters"] = params;
+  j["condition_number"] = num(r.final_model.summary.condition_number);
+  j["rmser_before"] = perOutput(r.base.rmser);
+  j["rmser_after"] = perOutput(r.final_model.rmser);
+  j["cv_rmser_before"] = perOutput(r.base.cv_rmser);
+  j["cv_rmser_after"] = perOutput(r.final_model.cv_rmser);
+  j["cv_scheme"] = r.cv_scheme;
+  nlohmann::json shift = nlohmann::json::object();
+  for (const char* name : {"w3_scale", "mu_scale"}) {
+    const double before = fittedValue(r.base, name), after = fittedValue(r.final_model, name);
+    shift[name] = {{"before", before}, {"after", after}, {"relative", after / before - 1.0}};
+  }
+  j["base_parameter_shift"] = shift;
+  nlohmann::json cands = nlohmann::json::array();
+  for (const FittedModel& f : r.tried) {
+    nlohmann::json c{{"model", f.label}, {"extends", f.parent}, {"usable", f.usable}, {"k", f.k},
+                     {"weighted_rss", num(f.rss)}, {"aicc", num(f.aicc)}, {"bic", num(f.bic)},
+                     {"p_vs_parent", num(f.p_vs_parent)}, {"eligible", f.eligible},
+                     {"rmser", perOutput(f.rmser)}};
+    if (f.cv_done) c["cv_rmser"] = perOutput(f.cv_rmser);
+    if (std::isfinite(f.p_held_out)) c["p_held_out_vs_parent"] = f.p_held_out;
+    nlohmann::json pv = nlohmann::json::object();
+    for (const ParameterEstimate& p : f.summary.parameters)
+      pv[p.name] = {{"value", p.value}, {"std_error", num(p.std_error)}};
+    c["parameters"] = pv;
+    cands.push_back(c);
+  }
+  j["candidates"] = cands;
+  j["noise_scale"] = perOutput(r.noise_scale);
+  j["noise_left"] = {{"side_force_n", num(r.side_force_noise_n)}, {"wear_rsd", num(r.wear_noise_rsd)}};
+  if (!r.detection_limits.empty()) {
+    nlohmann::json limits = nlohmann::json::object();
+    for (const DetectionLimit& l : r.detection_limits)
+      limits[l.term] = {{"parameter", l.parameter}, {"no_effect_value", num(l.neutral)}, {"below", num(l.below)},
+                        {"above", num(l.above)}, {"switch_power", num(l.switch_power)}, {"note", l.note}};
+    j["detection_limits"] = {{"power", r.detection_power}, {"terms", limits}};
+  }
+  j["repeat_spread"] = perOutput(r.pure_error);
+  j["skipped_terms"] = r.skipped_terms;
+  j["data_warnings"] = data.warnings;
+  j["not_located"] = r.not_located;
+  j["not_located_after"] = r.not_located_after;
+  j["selection_log"] = r.log;
+  j["runs"] = data.runs.size();
+  j["measured"] = {{"side_force", data.measured_count[0]}, {"wear", data.measured_count[1]}};
+  // The covariate each output's plot shows: the most significant locating test of that output.
+  nlohmann::json plot = nlohmann::json::object();
+  for (int o = 0; o < kNumOutputs; ++o)
+    for (const LocatedEffect& e : r.located_before)
+      if (static_cast<int>(e.output) == o) {
+        plot[outputName(e.output)] = e.covariate;
+        break;
+      }
+  j["plot_covariates"] = plot;
+  return j;
+}
+
+nlohmann::json detectabilityJson(const Detectability& d) {
+  nlohmann::json j;
+  j["lambda"] = d.lambda;
+  j["power"] = num(d.power);
+  j["expected_right"] = d.expected_right;
+  j["terms_tried"] = d.terms_tried;
+  for (const OracleVerdict& v : d.verdicts) j["verdicts"][v.verdict] = v.probability;
+  for (const ReferenceParameter& p : d.parameters)
+    j["parameters"][p.name] = {{"value", p.value}, {"std_error", num(p.std_error)}};
+  return j;
+}
+
+std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& data, const std::string& source,
+                              const std::vector<std::string>& plots) {
+  std::ostringstream m;
+  m << "# Mismatch diagnosis\n\n";
+  m << "Recordings: `" << source << "` (" << data.runs.size() << " runs; side force measured in "
+    << data.measured_count[0] << ", wear in " << data.measured_count[1] << ").\n\n";
+  m << "## Verdict\n\n";
+  m << "- mismatch found: **" << (r.mismatch_found ? "yes" : "no") << "**\n";
+  m << "- explanation: **" << r.explanation << "**\n";
+  for (Term t : r.final_model.terms) {
+    const TermInfo& info = termInfo(t);
+    m << "  - `" << info.name << "`" << (info.physical ? "" : " (sensor, not physics)") << ": " << info.statement
+      << "\n";
+  }
+  for (const CloseAlternative& a : r.close_alternatives)
+    m << "- about as well supported: `" << a.model << "` instead of `" << a.instead_of << "` (AICc "
+      << (a.delta_aicc >= 0.0 ? "+" : "") << g(a.delta_aicc, 2)
+      << "): these recordings cannot tell the two apart; runs that separate them would (for a sensor gain and "
+         "offset: low side forces, or a zero-load check of the transducer)\n";
+  if (!r.unexplained_covariates.empty()) {
+    m << "- no library term explains it; the residual follows:";
+    for (const std::string& c : r.unexplained_covariates) m << " `" << c << "`";
+    m << "\n";
+  }
+  for (const std::string& w : data.warnings) m << "- data warning: " << w << "\n";
+  m << "\n| | side force RMSER | wear RMSER | side force held out | wear held out |\n|---|---|---|---|---|\n";
+  m << "| base model (calibrated levels) | " << pct(r.base.rmser[0]) << " | " << pct(r.base.rmser[1]) << " | "
+    << pct(r.base.cv_rmser[0]) << " | " << pct(r.base.cv_rmser[1]) << " |\n";
+  m << "| " << r.final_model.label << " | " << pct(r.final_model.rmser[0]) << " | " << pct(r.final_model.rmser[1])
+    << " | " << pct(r.final_model.cv_rmser[0]) << " | " << pct(r.final_model.cv_rmser[1]) << " |\n\n";
+  m << "Held out: " << r.cv_scheme << ". RMSER is Eq 24 of the paper.\n\n";
+  m << "## Where the base model misses (residual = predicted/measured - 1)\n\n";
+  m << "Permutation tests, Holm-adjusted over all " << r.located_before.size() << " tests; ten smallest p-values:\n\n";
+  for (const std::string& why : r.not_located) m << "Not tested: " << why << ".\n\n";
+  m << "| output | covariate | kind | effect | p | p (Holm) |\n|---|---|---|---|---|---|\n";
+  for (std::size_t i = 0; i < r.located_before.size() && i < 10; ++i) {
+    const LocatedEffect& e = r.located_before[i];
+    m << "| " << outputName(e.output) << " | `" << e.covariate << "` | " << e.kind << " | " << effectText(e) << " | "
+      << g(e.p_value, 2) << " | " << (e.significant ? "**" : "") << g(e.p_adjusted, 2) << (e.significant ? "**" : "")
+      << " |\n";
+  }
+  m << "\n## Candidate extensions tried\n\n";
+  m << "| model | extends | params | AICc | BIC | F test p | eligible | held-out Fy | held-out W_r |\n"
+       "|---|---|---|---|---|---|---|---|---|\n";
+  m << "| base | | " << r.base.k << " | " << g(r.base.aicc) << " | " << g(r.base.bic) << " | | | "
+    << pct(r.base.cv_rmser[0]) << " | " << pct(r.base.cv_rmser[1]) << " |\n";
+  for (const FittedModel& f : r.tried)
+    m << "| " << f.label << " | " << f.parent << " | " << f.k << " | " << g(f.aicc) << " | " << g(f.bic) << " | "
+      << g(f.p_vs_parent, 2) << " | " << (f.eligible ? "yes" : "no") << " | "
+      << (f.cv_done ? pct(f.cv_rmser[0]) : "") << " | " << (f.cv_done ? pct(f.cv_rmser[1]) : "") << " |\n";
+  m << "\nEach candidate is fitted with the output weights of the model it extends (relative residuals divided by "
+       "that model's RMSER per output); an accepted model is refitted with its own, so the verdict's numbers differ "
+       "slightly from its row here.\n";
+  if (!r.skipped_terms.empty()) {
+    m << "\nNot applicable to these recordings:\n";
+    for (const std::string& s : r.skipped_terms) m << "- " << s << "\n";
+  }
+  m << "\nSelection:\n";
+  for (const std::string& l : r.log) m << "- " << l << "\n";
+  if (!r.detection_limits.empty()) {
+    m << "\n## What these recordings could have shown\n\n";
+    m << "The smallest effect of each term that the first selection step would find with probability "
+      << g(r.detection_power, 6) << ", added to the calibrated base model, at the noise the final model leaves ("
+      << (std::isfinite(r.side_force_noise_n) ? g(r.side_force_noise_n, 3) + " N" : std::string("not measured:"))
+      << " side force, " << (std::isfinite(r.wear_noise_rsd) ? pct(r.wear_noise_rsd) : std::string("not measured:"))
+      << " wear). Effects beyond these "
+      << "values would have been found that often; smaller ones can hide in these recordings"
+      << (r.explanation == "none" ? ", so `none` rules out only the larger ones" : "")
+      << ". Found means that the step's F test flags the term against the base model; near its limit a term can "
+         "still lose to a look-alike that fits about as well (a small gain to an offset).\n\n";
+    m << "| term | parameter | no effect at | detectable below | detectable above | note |\n"
+         "|---|---|---|---|---|---|\n";
+    for (const DetectionLimit& l : r.detection_limits) {
+      m << "| " << l.term << " | " << l.parameter << " | "
+        << (!l.parameter.empty() && std::isnan(l.neutral) ? std::string("infinity") : g(l.neutral, 4)) << " | "
+        << g(l.below, 3) << " | " << g(l.above, 3) << " | " << l.note;
+      if (std::isfinite(l.switch_power)) m << "power of the switch " << g(l.switch_power, 2);
+      m << " |\n";
+    }
+    m << "\nthermal_wear: sigma_T with T0 at the coldest run; load_fluctuation: multiples of the recorded load std.\n";
+  }
+  m << "\n## Parameters of the selected model\n\n| parameter | value | std error | at bound |\n|---|---|---|---|\n";
+  for (const ParameterEstimate& p : r.final_model.summary.parameters)
+    m << "| " << p.name << " | " << g(p.value, 5) << " | " << g(p.std_error, 3) << " | " << (p.atBound() ? "yes" : "")
+      << " |\n";
+  m << "\nBase parameter shift once the terms were added: ";
+  for (const char* name : {"w3_scale", "mu_scale"})
+    m << name << " " << g(fittedValue(r.base, name), 4) << " -> " << g(fittedValue(r.final_model, name), 4) << "; ";
+  m << "condition number " << g(r.final_model.summary.condition_number, 3) << ".\n";
+  const bool remaining = std::any_of(r.located_after.begin(), r.located_after.end(),
+                                     [](const LocatedEffect& e) { return e.significant; });
+  m << "\nAfter the selected model, "
+    << (remaining ? "the residual still follows:" : "no locating test is significant.");
+  for (const LocatedEffect& e : r.located_after)
+    if (e.significant) m << " " << outputName(e.output) << "/`" << e.covariate << "`";
+  m << "\n";
+  for (const std::string& why : r.not_located_after) m << "\nNot tested after: " << why << ".\n";
+  if (!plots.empty()) {
+    m << "\n## Plots\n\n";
+    for (const std::string& p : plots) m << "![" << p << "](" << p << ")\n\n";
+  }
+  m << "\nWeights: relative residuals divided by " << pct(r.noise_scale[0]) << " (side force) and "
+    << pct(r.noise_scale[1]) << " (wear); spread of repeats " << pct(r.pure_error[0]) << " / " << pct(r.pure_error[1])
+    << ". With few runs the F test and AICc are indicative only.\n";
+  return m.str();
+}
+
+std::string residualsCsv(const DiagnosisResult& r, const DiagnosisData& data) {
+  std::ostringstream c;
+  c << std::setprecision(10);
+  c << "run,condition_id,measured_side_force_n,measured_wear_kg_per_m,predicted_side_force_n_before,"
+       "predicted_wear_kg_per_m_before,predicted_side_force_n_after,predicted_wear_kg_per_m_after,"
+       "residual_side_force_before,residual_wear_before,residual_side_force_after,residual_wear_after";
+  for (const Covariate& cov : data.covariates) c << "," << cov.name;
+  c << "\n";
+  std::vector<double> res[2][2];
+  for (int o = 0; o < kNumOutputs; ++o) {
+    res[0][o] = relativeResiduals(data, r.base.prediction, static_cast<Output>(o));
+    res[1][o] = relativeResiduals(data, r.final_model.prediction, static_cast<Output>(o));
+  }
+  auto cell = [](double v) { return std::isfinite(v) ? g(v, 10) : std::string(); };
+  for (std::size_t i = 0; i < data.runs.size(); ++i) {
+    const DiagnosisRun& run = data.runs[i];
+    c << i + 1 << ",\"" << run.condition << "\"," << cell(run.measured[0]) << "," << cell(run.measured[1]) << ","
+      << cell(r.base.prediction.side_force_n[i]) << "," << cell(r.base.prediction.wear_kg_per_m[i]) << ","
+      << cell(r.final_model.prediction.side_force_n[i]) << "," << cell(r.final_model.prediction.wear_kg_per_m[i])
+      << "," << cell(res[0][0][i]) << "," << cell(res[0][1][i]) << "," << cell(res[1][0][i]) << ","
+      << cell(res[1][1][i]);
+    for (const Covariate& cov : data.covariates)
+      c << "," << (cov.categorical ? "\"" + cov.levels[static_cast<int>(cov.values[i])] + "\"" : cell(cov.values[i]));
+    c << "\n";
+  }
+  return c.str();
+}
+
+nlohmann::json answerJson(const ConcealAnswer& a) {
+  nlohmann::json j;
+  j["effect"] = a.effect;
+  j["parameters"] = a.parameters;
+  j["primary"] = a.primary;
+  j["primary_value"] = std::isfinite(a.primary_value) ? nlohmann::json(a.primary_value) : nlohmann::json();
+  j["primary_neutral"] = std::isfinite(a.primary_neutral) ? nlohmann::json(a.primary_neutral) : nlohmann::json();
+  j["design"] = a.spec.design;
+  j["magnitude"] = std::isfinite(a.spec.magnitude) ? nlohmann::json(a.spec.magnitude) : nlohmann::json();
+  j["wear_noise_rsd"] = a.spec.wear_noise_rsd;
+  j["side_force_noise_n"] = a.spec.side_force_noise_n;
+  j["seed"] = a.spec.seed;
+  return j;
+}
+
+}  // namespace diagnosis
+}  // namespace tread_wear
