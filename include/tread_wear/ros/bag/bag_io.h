@@ -1,8 +1,8 @@
 #pragma once
 /// @file bag_io.h
 /// rosbag side of the test drives: writing a generated drive as the node's input topics, reading a drive bag
-/// into DriveReplay (with clear errors for bad bags), writing the replay's wear topics, and the replay's
-/// configuration, read from the node's YAML (config/vehicle_wheels.yaml) without a ROS master.
+/// into DriveReplay (with clear errors for bad bags) and writing the replay's wear topics; the replay's
+/// configuration is in replay_config.h.
 
 #include <stdexcept>
 #include <string>
@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tread_wear/estimation/drive_replay.h"
+#include "tread_wear/ros/bag/replay_config.h"
 #include "tread_wear/vehicle/route.h"
 #include "tread_wear/vehicle/speed_profile.h"
 #include "tread_wear/vehicle/vehicle_model.h"
@@ -28,18 +29,6 @@ class BagError : public std::runtime_error {
 constexpr const char* kDriveInfoTopic = "/drive/info";
 /// Bag time of drive time 0 [s]: ros::Time(0) means "unset" to ROS, so drives start later.
 constexpr double kDriveTimeOffset_s = 1000.0;
-
-/// Replay configuration: the estimation keys of the node's YAML and its wheels.
-struct ReplayConfig {
-  ReplaySettings settings;
-  std::vector<ReplayWheel> wheels;
-  std::vector<std::string> load_topics, slip_topics, speed_topics, temperature_topics, wear_topics;  ///< per wheel
-};
-
-/// Reads the node configuration file (keys of docs/node.md: update_rate_hz, preset, turn_slip_orientation,
-/// min_speed_mps, stale_timeout_s, max_step_s, limits, wheels[name, frame_id, tire_params, tire_id, *_topic]).
-/// Relative tire_params start at the file's directory. @throw std::runtime_error naming the file and key
-ReplayConfig loadReplayConfig(const std::string& path);
 
 /// Options of a generated drive.
 struct DriveOptions {
