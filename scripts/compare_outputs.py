@@ -14,6 +14,7 @@ import filecmp
 import json
 import math
 import os
+import re
 import sys
 
 REL_TOL = 1e-12
@@ -24,9 +25,15 @@ REL_TOL = 1e-12
 SKIP_DIRS = {"logs"}
 
 # Keys ignored in one file only: tread_wear_replay writes timings and the input bag's path (which contains
-# OUT_DIR) into its summary (src/tools/ros/replay_main.cpp, drive_replay.cpp replaySummaryToJson).
+# OUT_DIR) into its summary (tread_wear_replay's main() and replaySummaryToJson).
 IGNORED_KEYS = {
     "main/wltc_summary.json": {"wall_time_s", "speedup", "bag_read_s", "compute_cpu_s", "input"},
+}
+
+# Text ignored in one file only: tread_wear_diagnose --bag names the bag by the path it was given, which lies in
+# OUT_DIR ("Recordings: `/abs/OUT/diagnose/polishing.bag` (36 runs; ...)"); only the path is blanked.
+IGNORED_TEXT = {
+    "diagnose/polishing_bag/report.md": re.compile(rb"(?m)^(Recordings: `)[^`]*(`)"),
 }
 
 
@@ -126,6 +133,12 @@ def main(argv):
         elif rel.endswith(".csv"):
             compare_csv(pa, pb, res)
             detail = f"max rel diff {res.max_rel:.3g}"
+        elif rel in IGNORED_TEXT:
+            with open(pa, "rb") as f1, open(pb, "rb") as f2:
+                blank = [IGNORED_TEXT[rel].sub(rb"\1<ignored>\2", f.read()) for f in (f1, f2)]
+            if blank[0] != blank[1]:
+                res.differ("bytes differ")
+            detail = "byte-identical but for the ignored path" if not res.mismatch else ""
         else:
             if not filecmp.cmp(pa, pb, shallow=False):
                 res.differ("bytes differ")
