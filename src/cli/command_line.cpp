@@ -1,6 +1,8 @@
 #include "tread_wear/cli/command_line.h"
 
 #include <algorithm>
+#include <cstdarg>
+#include <cstdio>
 #include <sstream>
 
 #include "tread_wear/io/csv.h"
@@ -62,6 +64,18 @@ std::vector<std::string> splitList(const std::string& text, char separator) {
   for (std::string item; std::getline(stream, item, separator);)
     if (!item.empty()) items.push_back(item);
   return items;
+}
+
+std::string formatted(const char* format, ...) {
+  std::va_list args, size_args;
+  va_start(args, format);
+  va_copy(size_args, args);
+  const int size = std::vsnprintf(nullptr, 0, format, size_args);
+  va_end(size_args);
+  std::string text(size > 0 ? static_cast<std::size_t>(size) : 0, '\0');
+  if (size > 0) std::vsnprintf(text.data(), text.size() + 1, format, args);
+  va_end(args);
+  return text;
 }
 
 int usageError(std::ostream& err, const std::string& prefix, const std::string& message, const std::string& usage) {

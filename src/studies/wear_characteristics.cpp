@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <limits>
 #include <stdexcept>
 
@@ -11,7 +10,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kDegToRad = M_PI / 180.0;
-constexpr double kKgPerMToGPerKm = 1e6;
 
 std::vector<SweepPoint> sweep(const BrushWearModel& model, double load_n, double speed_mps,
                               const CharacteristicsOptions& o) {
@@ -36,13 +34,6 @@ std::vector<SweepPoint> pointsOf(const std::vector<SweepPoint>& all, double load
   for (const SweepPoint& p : all)
     if (p.load_n == load_n && p.speed_mps == speed_mps) out.push_back(p);
   return out;
-}
-
-std::ofstream openCsv(const std::string& directory, const std::string& name) {
-  std::ofstream f(directory + "/" + name);
-  if (!f) throw std::runtime_error("cannot write " + directory + "/" + name);
-  f.precision(8);
-  return f;
 }
 
 }  // namespace
@@ -156,46 +147,6 @@ WearCharacteristics computeWearCharacteristics(const TireParams& params, const C
     wc.vm_condition.push_back({v, alpha_deg, r.fy_n, r.wear_rate_kg_per_m});
   }
   return wc;
-}
-
-void writeWearCharacteristicsCsv(const WearCharacteristics& wc, const CharacteristicsOptions& o,
-                                 const std::string& dir) {
-  auto write_sweeps = [&](const std::string& name, const std::vector<SweepPoint>& points) {
-    std::ofstream f = openCsv(dir, name);
-    f << "load_n,speed_mps,slip_angle_deg,side_force_n,wear_rate_g_per_km,stick_fraction\n";
-    for (const SweepPoint& p : points)
-      f << p.load_n << "," << p.speed_mps << "," << p.slip_angle_deg << "," << p.side_force_n << ","
-        << p.wear_rate_kg_per_m * kKgPerMToGPerKm << "," << p.stick_fraction << "\n";
-  };
-  write_sweeps("wc_load_sweep.csv", wc.load_sweeps);
-  write_sweeps("wc_speed_sweep.csv", wc.speed_sweeps);
-
-  std::ofstream at = openCsv(dir, "wc_wear_at_side_force.csv");
-  at << "side_force_n,variable,load_n,speed_mps,wear_rate_g_per_km\n";
-  for (const auto& a : wc.at_side_force) {
-    for (size_t i = 0; i < o.loads_n.size(); ++i)
-      at << a.side_force_n << ",load," << o.loads_n[i] << "," << o.load_sweep_speed_mps << ","
-         << a.wear_by_load_kg_per_m[i] * kKgPerMToGPerKm << "\n";
-    for (size_t i = 0; i < o.speeds_mps.size(); ++i)
-      at << a.side_force_n << ",speed," << o.speed_sweep_load_n << "," << o.speeds_mps[i] << ","
-         << a.wear_by_speed_kg_per_m[i] * kKgPerMToGPerKm << "\n";
-  }
-  std::ofstream ol = openCsv(dir, "wc_optimal_load.csv");
-  ol << "side_force_n,speed_mps,optimal_load_n,wear_rate_g_per_km,at_edge_of_load_grid\n";
-  for (const auto& a : wc.at_side_force)
-    if (a.optimal_load.found)
-      ol << a.side_force_n << "," << o.load_sweep_speed_mps << "," << a.optimal_load.x << ","
-         << a.optimal_load.y * kKgPerMToGPerKm << "," << (a.optimal_load.at_edge ? 1 : 0) << "\n";
-  std::ofstream os = openCsv(dir, "wc_optimal_speed.csv");
-  os << "side_force_n,load_n,local_optimal_speed_mps,wear_rate_g_per_km\n";
-  for (const auto& a : wc.at_side_force)
-    for (const GridMinimum& m : a.speed_local_minima)
-      os << a.side_force_n << "," << o.speed_sweep_load_n << "," << m.x << "," << m.y * kKgPerMToGPerKm << "\n";
-  std::ofstream vm = openCsv(dir, "wc_vm_condition.csv");
-  vm << "speed_mps,load_n,slip_angle_deg,side_force_n,wear_rate_g_per_km\n";
-  for (const auto& c : wc.vm_condition)
-    vm << c.speed_mps << "," << o.speed_sweep_load_n << "," << c.slip_angle_deg << "," << c.side_force_n << ","
-       << c.wear_rate_kg_per_m * kKgPerMToGPerKm << "\n";
 }
 
 }  // namespace tread_wear

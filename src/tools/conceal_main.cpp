@@ -1,6 +1,6 @@
 // tread_wear_conceal: recordings with a hidden library effect and its answer (docs/diagnosis.md).
 #include <iostream>
 
-#include "tread_wear/cli/diagnosis_cli.h"
+#include "tread_wear/cli/conceal_cli.h"
 
 int main(int argc, char** argv) { return tread_wear::diagnosis::runConcealCli(argc, argv, std::cout, std::cerr); }

@@ -40,6 +40,8 @@ class CommandLine {
   bool help_ = false;
 };
 
+/// Exit status of the tools for bad data (a file, parameter or row that cannot be used, a failed fit).
+constexpr int kExitData = 1;
 /// Exit status of the tools for bad usage (unknown, missing or malformed options).
 constexpr int kExitUsage = 2;
 
@@ -52,5 +54,8 @@ bool parseGridSize(const std::string& text, int* n_x_steps, int* n_strips);
 
 /// The non-empty items of a separated list ("a,b,,c" -> a, b, c).
 std::vector<std::string> splitList(const std::string& text, char separator = ',');
+
+/// printf-style formatting into a string of any length, for report lines whose layout is a printf format.
+std::string formatted(const char* format, ...) __attribute__((format(printf, 1, 2)));
 
 }  // namespace tread_wear

@@ -74,10 +74,4 @@ struct WearCharacteristics {
 /// Runs every sweep. @throw std::invalid_argument for invalid params or options.
 WearCharacteristics computeWearCharacteristics(const TireParams& params, const CharacteristicsOptions& options);
 
-/// Writes wc_load_sweep.csv, wc_speed_sweep.csv, wc_wear_at_side_force.csv, wc_optimal_load.csv,
-/// wc_optimal_speed.csv and wc_vm_condition.csv (paper units: N, m/s, deg, g/km) into `directory`.
-/// @throw std::runtime_error when a file cannot be written.
-void writeWearCharacteristicsCsv(const WearCharacteristics& wc, const CharacteristicsOptions& options,
-                                 const std::string& directory);
-
 }  // namespace tread_wear

@@ -21,7 +21,7 @@
 #include "tread_wear/WheelLoad.h"
 #include "tread_wear/WheelSlip.h"
 #include "tread_wear/WheelSpeed.h"
-#include "tread_wear/cli/diagnosis_cli.h"
+#include "tread_wear/cli/diagnose_cli.h"
 #include "tread_wear/ros/bag/diagnosis_bag.h"
 
 namespace tread_wear {

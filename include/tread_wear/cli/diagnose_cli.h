@@ -1,0 +1,29 @@
+#pragma once
+/// @file diagnose_cli.h
+/// The tread_wear_diagnose tool as a function over streams, so that the main stays a few lines and tests can run it
+/// in-process. Exit codes: 0 success, 1 bad data (file, parameter, row), 2 bad usage.
+
+#include <functional>
+#include <ostream>
+#include <string>
+
+#include "tread_wear/io/run_table.h"
+
+namespace tread_wear {
+namespace diagnosis {
+
+/// Converts a rosbag into run records (the ROS-side adapter: ros/bag/diagnosis_bag.h).
+/// @throw std::exception with a message naming the problem.
+using BagReader = std::function<RunTable(const std::string& bag_path)>;
+
+/// tread_wear_diagnose --params FILE (--runs FILE.csv | --bag FILE.bag) --report DIR
+///     [--orientation literal|flipped] [--preset fast|standard] [--candidates a,b,...] [--max-terms N]
+///     [--alpha-locate X] [--alpha-select X] [--seed N] [--plot-script PATH | --no-plots]
+/// Writes DIR/diagnosis.json, DIR/report.md, DIR/residuals.csv and (with the plot script) DIR/*.png.
+/// `bag_reader` may be empty (built without rosbag): --bag is then a usage error. `default_plot_script` is used
+/// unless --plot-script or --no-plots is given; an empty or missing script skips the plots with a note.
+int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_reader,
+                   const std::string& default_plot_script, std::ostream& out, std::ostream& err);
+
+}  // namespace diagnosis
+}  // namespace tread_wear

@@ -1,0 +1,149 @@
+#include "tread_wear/cli/diagnose_cli.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <vector>
+
+#include "tread_wear/cli/command_line.h"
+#include "tread_wear/cli/diagnosis_model_options.h"
+#include "tread_wear/diagnosis/data.h"
+#include "tread_wear/diagnosis/diagnosis.h"
+#include "tread_wear/fitting/recording_checks.h"
+#include "tread_wear/io/params_io.h"
+#include "tread_wear/report/diagnosis_report.h"
+
+namespace tread_wear {
+namespace diagnosis {
+namespace {
+
+const char* const kDiagnoseUsage =
+    "usage: tread_wear_diagnose --params FILE (--runs FILE.csv | --bag FILE.bag) --report DIR\n"
+    "       [--orientation literal|flipped] [--preset fast|standard|fine|reference] [--candidates a,b,...]\n"
+    "       [--max-terms N] [--alpha-locate X] [--alpha-select X] [--detection-power X] [--seed N]\n"
+    "       [--plot-script PATH | --no-plots]\n";
+
+}  // namespace
+
+int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_reader,
+                   const std::string& default_plot_script, std::ostream& out, std::ostream& err) {
+  CommandLine a;
+  std::string parse_error;
+  const bool parsed = a.parse(argc, argv,
+               {"params", "runs", "bag", "report", "orientation", "preset", "candidates", "max-terms",
+                "alpha-locate", "alpha-select", "detection-power", "seed", "plot-script"},
+               {"no-plots"}, &parse_error);
+  auto usage = [&](const std::string& msg) { return usageError(err, "tread_wear_diagnose", msg, kDiagnoseUsage); };
+  if (a.help()) {
+    out << kDiagnoseUsage;
+    return 0;
+  }
+  if (!parsed) return usage(parse_error);
+  if (!a.has("params")) return usage("--params is required");
+  if (a.has("runs") == a.has("bag")) return usage("give exactly one of --runs and --bag");
+  if (!a.has("report")) return usage("--report is required");
+  if (a.has("bag") && !bag_reader)
+    return usage("--bag: this build has no rosbag support (built without catkin's rosbag)");
+  DiagnosisOptions opt;
+  std::string e = applyModelOptions(a, &opt.model);
+  if (!e.empty()) return usage(e);
+  for (const std::string& name : splitList(a.get("candidates"))) {
+    Term t;
+    if (!parseTerm(name, &t))
+      return usage("--candidates: '" + name + "' is not a library term (tread_wear_conceal --list)");
+    opt.candidates.push_back(t);
+  }
+  int seed = static_cast<int>(opt.seed);
+  if (!a.integer("max-terms", &opt.max_terms, &e) || !a.number("alpha-locate", &opt.alpha_locate, &e) ||
+      !a.number("alpha-select", &opt.alpha_select, &e) || !a.number("detection-power", &opt.detection_power, &e) ||
+      !a.integer("seed", &seed, &e))
+    return usage(e);
+  if (opt.max_terms < 0 || opt.max_terms > 4) return usage("--max-terms must be an integer in 0..4");
+  if (seed < 0) return usage("--seed must be a non-negative integer");
+  opt.seed = static_cast<std::uint64_t>(seed);
+  if (!opt.validate(&e)) return usage(e);
+
+  try {
+    const TireParams params = loadTireParams(a.get("params"));
+    const std::string source = a.has("runs") ? a.get("runs") : a.get("bag");
+    RunTable table = a.has("runs") ? readRunTable(source) : bag_reader(source);
+    const std::vector<std::string> warnings = screenSideForceSigns(params, opt.model.orientation, &table);
+    for (const std::string& w : warnings) err << "tread_wear_diagnose: warning: " << w << "\n";
+    DiagnosisData data = buildDiagnosisData(table);
+    data.warnings = warnings;
+    const DiagnosisResult result = diagnose(params, data, opt);
+    const std::filesystem::path dir(a.get("report"));
+    std::filesystem::create_directories(dir);
+    const nlohmann::json j = diagnosisJson(result, data);
+    {
+      std::ofstream f(dir / "diagnosis.json");
+      f << j.dump(2) << "\n";
+      if (!f) throw std::runtime_error("cannot write " + (dir / "diagnosis.json").string());
+    }
+    {
+      std::ofstream f(dir / "residuals.csv");
+      f << residualsCsv(result, data);
+      if (!f) throw std::runtime_error("cannot write " + (dir / "residuals.csv").string());
+    }
+    std::vector<std::string> plots;
+    const std::string script = a.has("no-plots") ? "" : a.get("plot-script", default_plot_script);
+    if (!script.empty() && std::filesystem::exists(script)) {
+      const std::string cmd = "/usr/bin/python3 '" + script + "' '" + dir.string() + "'";
+      if (std::system(cmd.c_str()) == 0) {
+        for (const char* p : {"residuals_side_force.png", "residuals_wear.png", "measured_vs_predicted.png"})
+          if (std::filesystem::exists(dir / p)) plots.push_back(p);
+      } else {
+        err << "tread_wear_diagnose: the plot script failed; report written without plots\n";
+      }
+    } else if (!a.has("no-plots")) {
+      err << "tread_wear_diagnose: no plot script found ('" << script << "'); report written without plots\n";
+    }
+    {
+      std::ofstream f(dir / "report.md");
+      f << diagnosisMarkdown(result, data, source, plots);
+      if (!f) throw std::runtime_error("cannot write " + (dir / "report.md").string());
+    }
+    out << "mismatch_found: " << (result.mismatch_found ? "true" : "false") << "\nexplanation: " << result.explanation
+        << "\n";
+    for (const std::string& c : result.unexplained_covariates) out << "residual follows: " << c << "\n";
+    for (const CloseAlternative& c : result.close_alternatives) {
+      char line[200];
+      std::snprintf(line, sizeof(line), "about as well supported: %s instead of %s (AICc %+.2f)\n", c.model.c_str(),
+                    c.instead_of.c_str(), c.delta_aicc);
+      out << line;
+    }
+    char held_out[160];
+    std::snprintf(held_out, sizeof(held_out), "held-out RMSER: side force %.2f%% -> %.2f%%, wear %.2f%% -> %.2f%%\n",
+                  100.0 * result.base.cv_rmser[0], 100.0 * result.final_model.cv_rmser[0],
+                  100.0 * result.base.cv_rmser[1], 100.0 * result.final_model.cv_rmser[1]);
+    out << held_out;
+    if (result.explanation == "none")  // what the `none` rules out; every verdict has the table in report.md
+      for (const DetectionLimit& l : result.detection_limits) {
+        if (std::isnan(l.below) && std::isnan(l.above)) continue;
+        char line[200];
+        std::snprintf(line, sizeof(line), "would have found (power %g): %s %s", result.detection_power,
+                      l.term.c_str(), l.parameter.c_str());
+        out << line;
+        if (std::isfinite(l.below)) {
+          std::snprintf(line, sizeof(line), " <= %.3g", l.below);
+          out << line << (std::isfinite(l.above) ? " or" : "");
+        }
+        if (std::isfinite(l.above)) {
+          std::snprintf(line, sizeof(line), " >= %.3g", l.above);
+          out << line;
+        }
+        out << "\n";
+      }
+    out << "report: " << (dir / "report.md").string() << "\n";
+    return 0;
+  } catch (const std::exception& ex) {
+    err << "tread_wear_diagnose: " << ex.what() << "\n";
+    return kExitData;
+  }
+}
+
+}  // namespace diagnosis
+}  // namespace tread_wear

@@ -1,0 +1,92 @@
+#include "tread_wear/cli/diagnosis_harness_cli.h"
+
+#include <algorithm>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "tread_wear/cli/command_line.h"
+#include "tread_wear/diagnosis/harness.h"
+#include "tread_wear/io/csv.h"
+#include "tread_wear/io/params_io.h"
+
+namespace tread_wear {
+namespace diagnosis {
+
+int runHarnessCli(int argc, const char* const argv[], std::ostream& out, std::ostream& err) {
+  const char* usage_text =
+      "usage: tread_wear_diagnosis_harness --params FILE [--quick] [--design table2|small] [--repeats N]\n"
+      "       [--controls N] [--effects a,b] [--noise 0.05,0.10] [--one-magnitude] [--information] [--alpha-select X]\n"
+      "       [--jobs N] [--seed N] [--csv OUT]\n";
+  CommandLine a;
+  std::string parse_error;
+  const bool parsed = a.parse(argc, argv,
+               {"params", "design", "repeats", "controls", "effects", "noise", "jobs", "seed", "csv", "alpha-select"},
+               {"quick", "one-magnitude", "information"}, &parse_error);
+  auto usage = [&](const std::string& msg) { return usageError(err, "tread_wear_diagnosis_harness", msg, usage_text); };
+  if (a.help()) {
+    out << usage_text;
+    return 0;
+  }
+  if (!parsed) return usage(parse_error);
+  if (!a.has("params")) return usage("--params is required");
+  HarnessOptions h;
+  if (a.has("quick")) {
+    // Small mode: the short design, one magnitude, two seeds, one noise level.
+    h.design = "small";
+    h.repeats = 2;
+    h.control_repeats = 4;
+    h.wear_noise = {0.05};
+    h.two_magnitudes = false;
+  }
+  h.design = a.get("design", h.design);
+  std::string e;
+  int seed = static_cast<int>(h.seed);
+  if (!a.integer("repeats", &h.repeats, &e) || !a.integer("controls", &h.control_repeats, &e) ||
+      !a.integer("jobs", &h.jobs, &e) || !a.integer("seed", &seed, &e) ||
+      !a.number("alpha-select", &h.diagnosis.alpha_select, &e))
+    return usage(e);
+  if (!h.diagnosis.validate(&e)) return usage(e);
+  if (h.repeats < 1) return usage("--repeats must be an integer >= 1");
+  if (h.control_repeats < 0) return usage("--controls must be an integer >= 0");
+  if (h.jobs < 1 || h.jobs > 64) return usage("--jobs must be an integer in 1..64");
+  if (seed < 0) return usage("--seed must be a non-negative integer");
+  h.seed = static_cast<std::uint64_t>(seed);
+  if (a.has("noise")) {
+    h.wear_noise.clear();
+    for (const std::string& item : splitList(a.get("noise"))) {
+      double x = 0.0;
+      if (!csv::parseFiniteDouble(item, &x) || x < 0.0 || x > 0.5)
+        return usage("--noise: '" + item + "' must be a wear RSD in [0, 0.5]");
+      h.wear_noise.push_back(x);
+    }
+  }
+  if (a.has("one-magnitude")) h.two_magnitudes = false;
+  h.information = a.has("information");
+  if (h.information && std::find(h.wear_noise.begin(), h.wear_noise.end(), 0.0) != h.wear_noise.end())
+    return usage("--information needs every --noise level > 0 (the reference is measured in units of the noise)");
+  for (const std::string& name : splitList(a.get("effects"))) {
+    Term t;
+    if (name != "none" && !parseTerm(name, &t)) return usage("--effects: '" + name + "' is not a library term");
+    if (name != "none") h.effects.push_back(name);
+  }
+  if (h.design != "table2" && h.design != "small") return usage("--design must be table2 or small");
+  try {
+    const TireParams params = loadTireParams(a.get("params"));
+    const std::vector<HarnessOutcome> outcomes = runHarness(params, h, &err);
+    out << harnessTable(outcomes);
+    if (a.has("csv")) {
+      std::ofstream f(a.get("csv"));
+      f << harnessCsv(outcomes);
+      if (!f) throw std::runtime_error("cannot write " + a.get("csv"));
+    }
+    return 0;
+  } catch (const std::exception& ex) {
+    err << "tread_wear_diagnosis_harness: " << ex.what() << "\n";
+    return kExitData;
+  }
+}
+
+}  // namespace diagnosis
+}  // namespace tread_wear
