@@ -13,7 +13,7 @@ tread_wear_ros_module(ros MODULES model estimation io)
 # rosbag's own codecs, so that the bag check can decompress a chunk before rosbag parses it (checkBagRecords).
 find_package(BZip2 REQUIRED)
 find_package(roslz4 REQUIRED)
-tread_wear_ros_module(ros/bag MODULES model vehicle estimation io PRIVATE BZip2::BZip2 ${roslz4_LIBRARIES})
+tread_wear_ros_module(ros/bag MODULES model vehicle estimation io cli PRIVATE BZip2::BZip2 ${roslz4_LIBRARIES})
 target_include_directories(tread_wear_ros_bag PRIVATE ${roslz4_INCLUDE_DIRS})
 
 add_executable(tread_wear_node src/nodes/tread_wear_node.cpp)

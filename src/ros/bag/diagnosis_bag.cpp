@@ -11,7 +11,7 @@
 #include <std_msgs/Float64.h>
 #include <std_msgs/Int32.h>
 
-#include "tread_wear/ros/bag/bag_io.h"
+#include "tread_wear/ros/bag/bag_check.h"
 #include <tread_wear/TreadTemperature.h>
 #include <tread_wear/WheelLoad.h>
 #include <tread_wear/WheelSlip.h>

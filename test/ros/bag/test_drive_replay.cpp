@@ -21,7 +21,9 @@
 #include "tread_wear/WheelSlip.h"
 #include "tread_wear/WheelSpeed.h"
 #include "tread_wear/io/vehicle_params_io.h"
-#include "tread_wear/ros/bag/bag_io.h"
+#include "tread_wear/ros/bag/drive_bag_reader.h"
+#include "tread_wear/ros/bag/drive_bag_writer.h"
+#include "tread_wear/ros/bag/replay_config.h"
 
 namespace tread_wear {
 namespace {

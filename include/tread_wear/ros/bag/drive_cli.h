@@ -1,0 +1,19 @@
+#pragma once
+/// @file drive_cli.h
+/// The tread_wear_drive tool as a function over streams, so that the main stays a few lines and tests can run it
+/// in-process. It is here and not in cli because it writes a bag.
+
+#include <ostream>
+#include <string>
+
+namespace tread_wear {
+
+/// tread_wear_drive [--profile SPEED.csv] [--vehicle VEHICLE.yaml] [--rate-hz HZ] [--lateral-accel-limit A]
+///     [--seed N] --out DRIVE.bag
+/// Generates a test drive (speed profile + route + vehicle model; docs/drive.md) as a bag of the node's inputs
+/// (drive_bag_writer.h) and prints its statistics to out. The default profile and vehicle are
+/// `share_dir`/data/wltc_class3b.csv and `share_dir`/config/vehicle_passenger_car.yaml.
+/// Returns 0, 1 for bad data (profile, vehicle, unwritable bag) or 2 for bad usage (message on err).
+int runDriveCli(int argc, const char* const argv[], const std::string& share_dir, std::ostream& out, std::ostream& err);
+
+}  // namespace tread_wear
