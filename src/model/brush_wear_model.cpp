@@ -247,347 +247,444 @@ NodeSolution nodeOf(const march::NodeLanes& n, int j) {
           n.stuck[j] != 0.0};
 }
 
+/// The integrands of node solution o at x [m] on the strip with Mz lever arm y_mz [m]; stick by the paper's
+/// Section 4 definition, |v_s| <= v_m [m/s].
+Integrands integrandsOf(const NodeSolution& o, double x, double y_mz, double v_m) {
+  return Integrands{o.tx, o.ty, x * o.ty - y_mz * o.tx, o.wt, o.s <= v_m ? 1.0 : 0.0, o.stuck ? 1.0 : 0.0};
+}
+
 }  // namespace
 
+/// One evaluation's element march from the leading edge x = +a to the trailing edge x = -a, all strips side by
+/// side (Eqs 12-18), with the running sums of Eq 20: the operating point's constants, the per-strip state of the
+/// marcher (march::PathState, march::NodeLanes) and the bookkeeping of the local substeps. It lives on
+/// evaluate()'s stack (about 140 KB with GridSpec::kMaxStrips strips), so an evaluation allocates nothing.
+class BrushWearModel::Sweep {
+ public:
+  /// @param patch footprint and pressure of the operating point (Eqs 6-9); it and the grids xg, yg (the
+  ///   entry-transient ones or not) outlive the sweep
+  /// @param fields optional local fields, pre-sized (evaluate())
+  Sweep(const BrushWearModel& model, const OperatingPoint& op, const ContactPatch& patch, const XGrid& xg,
+        const YGrid& yg, PatchFields* fields);
 
-void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, PatchFields* fields) const {
-  const FootprintParams& fp = params_.footprint;
-  const TreadParams& tp = params_.tread;
-  const WearLawParams& wl = params_.wear;
-  const FrictionParams& fr = params_.friction;
-  const double Fz = op.load_n;
-  const double a = fp.halfLength(Fz);
-  const double b = fp.b_m;
-  const double Bx = PressureShape(fp.n_x, fp.lambda_x, fp.x_e_m / a).B();
-  const double ky = tp.k_y0_pa_per_m + tp.k_y1_pa_per_m_n * Fz;
-  const double kx = tp.phi * ky;
-  const double cx = tp.c_x_pa_s_per_m, cy = tp.c_y_pa_s_per_m, m = tp.m_kg_per_m2;
-  const double V = op.speed_mps;
-  const double Vx = op.longitudinalSpeed();
-  const double Vr = op.rollingSpeed();
-  const double curvature =
-      options_.orientation == TurnSlipOrientation::kFlipped ? -op.path_curvature_per_m : op.path_curvature_per_m;
-  const double Omega = V * curvature;  // yaw rate over the road [rad/s]
-  const double vrx0 = op.slip_ratio * Vx;
-  const double vry0 = -V * std::sin(op.slip_angle_rad);
-  const double w3 = wl.w3_kg_per_s_m2 * wl.temperatureFactor(op.tread_temperature_c);
-  const double w1 = wl.w1, w2 = wl.w2, w4 = wl.w4_kg_per_s_m2;
-  const double ln_w3_over_mpa_w1 = std::log(w3) - w1 * std::log(units::kMegapascal);
-  const double v_m = fr.v_m_mps;
-  // The integrands of node solution o at x [m] on the strip with Mz lever arm y_mz [m]; stick by the paper's
-  // Section 4 definition (|v_s| <= v_m).
-  auto integrands = [v_m](const NodeSolution& o, double x, double y_mz) {
-    return Integrands{o.tx, o.ty, x * o.ty - y_mz * o.tx, o.wt, o.s <= v_m ? 1.0 : 0.0, o.stuck ? 1.0 : 0.0};
-  };
+  int steps() const { return n_; }
+  /// Node 0 at x = +a, where p = 0 and no friction acts: the elements' entry state (model spec, "Leading edge").
+  void leadingEdge();
+  /// x step i, from node i to node i + 1, of every strip: one implicit BDF2 step with return mapping, then
+  /// local substeps where the step ended in poorly damped sliding, then the step's terms of Eq 20.
+  void step(int i);
+  /// Fx, Fy, Mz, the wear rates and the area fractions (Eq 20).
+  void results(WearResult* result) const;
+
+ private:
+  static constexpr int kNodeChunk = 64;  ///< nodes whose pressure is computed together (pressureAtNode)
+
+  march::Constants marchConstants(const OperatingPoint& op) const;
+  void initStrips(bool enter_at_road_velocity);
+  march::StepTerms stepTerms(double ds, const march::Bdf2& c, double w) const;
+  double pressureFrom(double gx_even, double sat_gx, double s, double shift, double* sat_x) const;
+  double pressureAtNode(int i, double* sat_x);
+  void setReturningStepTerms(int i, const march::StepTerms& coarse);
+  void chooseSubstepLevels(double h);
+  void redoInSubsteps(int i, int j0, int j1, const march::Node& node, Integrands* node_change,
+                      Integrands* corrections);
+  void setFirstSubstepTerms(int i, int j0, int j1, int lanes_end, double dss, const march::StepTerms& inner);
+  void marchSubsteps(int i, int j0, int j1, double dss, const march::StepTerms& inner, const march::Node& node,
+                     Integrands* corrections);
+  void addEdgeWear(int i, Integrands* corrections) const;
+  void storeNode(int i, int j, const NodeSolution& o, const march::PathState& state) const;
+
+  const BrushWearModel& model_;
+  const ContactPatch& patch_;
+  const XGrid& xg_;
+  const YGrid& yg_;
+  PatchFields* const fields_;
+  const double v_mps_;          ///< V, speed of the wheel centre [m/s]
+  const double vr_mps_;         ///< V_r, rolling speed: elements cross the patch at it [m/s]
+  const TipKinematics kin_;     ///< v_r's slip terms and yaw rate (Eq 14 generalised)
+  // Pressure p = p_scale g_x g_y (Eqs 7-8) and sat(p) (Eq 11) at the nodes: the grids hold g_x's even part and
+  // its power -q; the centre shift's factors (1 - B s) and (1 - B s)^-q and the scales depend on Fz.
+  const double bx_;             ///< B of g_x (Eq 7) [-]
+  const double p_scale_pa_;     ///< Fz/(2a)/(2b) [Pa]
+  const double sat_scale_;      ///< (p_scale/p_ref)^-q [-]
+  const int shift_terms_;       ///< series terms of (1 - B s)^-q for |B s| <= |B| (ShiftSaturation)
+  const int n_;                 ///< x steps
+  const int ny_;                ///< strips of the grid
+  const bool mirror_;           ///< march half the strips: v_r does not depend on y without turn slip, g_y is even
+  const int n_active_;          ///< strips marched
+  const int n_padded_;          ///< strips with lanes: the packs may run up to kMaxLanes past n_active_
+  const int max_level_;         ///< finest substep level (2^max_level substeps per step)
+  const int initial_budget_;    ///< substep nodes allowed in this evaluation
+  const double edge_weight_;    ///< 1/(1 + w1) - 1/2: the edge intervals' wear weight over the trapezoid's [-]
+  const march::Constants constants_;
+  int refinement_budget_;       ///< substep nodes left
+  march::StripConstants strips_;
+  // Two path states, at node i and at node i + 1, swapped after each x step: a step redone in substeps starts
+  // again from node i without a copy. The same for the node solutions, those at node i being the start of the
+  // trapezoid correction of a step redone in substeps.
+  march::PathState paths_[2];
+  march::PathState* el_ = &paths_[0];
+  march::PathState* next_ = &paths_[1];
+  march::NodeLanes node_buffers_[2];
+  march::NodeLanes* prev_nodes_ = &node_buffers_[0];
+  march::NodeLanes* nodes_ = &node_buffers_[1];
+  // Of a strip whose step was redone in substeps: the last such step and its substep length [x/a]; the number
+  // of strips redone in the previous step; the levels of the current step (0 where it stands).
+  int refined_step_[GridSpec::kMaxStrips];
+  double substep_ds_[GridSpec::kMaxStrips];
+  int level_[GridSpec::kMaxStrips];
+  int n_back_ = 0;
+  march::StepTermLanes back_;   ///< per x step: step terms of strips coming back from substeps
+  march::PatchSums sums_{};     ///< the packs' sums of the coarse node solutions
+  march::RootCounts root_counts_;
+  Integrands total_;            ///< everything else of Eq 20 and the stick areas: N, N m, kg/s, m^2
+  double chunk_px_[kNodeChunk], chunk_sat_[kNodeChunk];  ///< pressureAtNode's p/g_y [Pa] and sat_x [-]
+  int chunk_first_ = -kNodeChunk;                           ///< their first node
+};
+
+BrushWearModel::Sweep::Sweep(const BrushWearModel& model, const OperatingPoint& op, const ContactPatch& patch,
+                             const XGrid& xg, const YGrid& yg, PatchFields* fields)
+    : model_(model),
+      patch_(patch),
+      xg_(xg),
+      yg_(yg),
+      fields_(fields),
+      v_mps_(op.speed_mps),
+      vr_mps_(op.rollingSpeed()),
+      kin_(op.tipKinematics(model.options_.orientation)),
+      bx_(patch.shapeX().B()),
+      p_scale_pa_(patch.pressureScale()),
+      sat_scale_(std::pow(p_scale_pa_ / model.params_.friction.p_ref_pa, -model.params_.friction.q)),
+      shift_terms_(model.shift_saturation_.terms(std::fabs(bx_))),
+      n_(static_cast<int>(xg.s.size()) - 1),
+      ny_(static_cast<int>(yg.eta.size())),
+      mirror_(model.options_.use_symmetry && yg.symmetric && kin_.omega_rad_per_s == 0.0),
+      n_active_(mirror_ ? (ny_ + 1) / 2 : ny_),
+      n_padded_(std::min(n_active_ + march::kMaxLanes, march::kCapacity)),
+      max_level_(model.options_.refinement.max_level),
+      initial_budget_(max_level_ > 0 ? model.options_.refinement.node_budget : 0),
+      edge_weight_(1.0 / (1.0 + model.params_.wear.w1) - 0.5),
+      constants_(marchConstants(op)),
+      refinement_budget_(initial_budget_) {
+  initStrips(model.options_.enter_at_road_velocity);
+  if (fields_) {
+    for (int i = 0; i <= n_; ++i) fields_->x_m[i] = patch.halfLength() * xg_.s[i];
+    fields_->n_strips = ny_;
+    for (int j = 0; j < ny_; ++j) fields_->y_m[j] = patch.halfWidth() * yg_.eta[j];
+  }
+}
+
+march::Constants BrushWearModel::Sweep::marchConstants(const OperatingPoint& op) const {
+  const FrictionParams& fr = model_.params_.friction;
+  const TreadParams& tp = model_.params_.tread;
+  const WearLawParams& wl = model_.params_.wear;
+  const BrushOptions& options = model_.options_;
+  march::Constants k;
+  k.vrx0 = kin_.v_rx0_mps;
+  k.vry0 = kin_.v_ry0_mps;
+  k.omega = kin_.omega_rad_per_s;
+  k.kx = tp.longitudinalStiffness(op.load_n);
+  k.ky = tp.lateralStiffness(op.load_n);
+  k.m = tp.m_kg_per_m2;
+  k.cx = tp.c_x_pa_s_per_m;
+  k.cy = tp.c_y_pa_s_per_m;
+  // Friction, Eqs 10-11, in l = ln(|v_s|/v_m).
+  k.p_0 = fr.p_0_pa;
+  k.sat_floor = model_.friction_.saturation(fr.p_0_pa);
+  k.mu_0 = fr.mu_0;
+  k.dmu = fr.mu_m - fr.mu_0;
+  k.savkoor_c = model_.friction_.savkoorC();
+  k.ln_vm = std::log(fr.v_m_mps);
+  k.z_floor = std::log(options.creep_floor_mps);
+  k.savkoor_floor = model_.friction_.savkoor(options.creep_floor_mps);
+  k.v_m = fr.v_m_mps;
+  k.tol = options.root_tolerance;
+  k.max_iterations = options.max_root_iterations;
+  k.passes = kin_.omega_rad_per_s == 0.0 ? 1 : options.turn_slip_iterations;
+  // Wear law, Eq 19 with Eq 25, in logarithms: ln(w3 (|tau|/1 MPa)^w1 |v_s|^w2).
+  k.w1 = wl.w1;
+  k.w2 = wl.w2;
+  k.w4 = wl.w4_kg_per_s_m2;
+  k.ln_w3_over_mpa_w1 = std::log(wl.w3At(op.tread_temperature_c)) - wl.w1 * std::log(units::kMegapascal);
   // ln|v_s| below which w3 (|tau|/1 MPa)^w1 |v_s|^w2 < 1e-9 w4 for any |tau| <= 100 MPa.
-  const double z_wear_cut = w4 > 0.0 ? (std::log(1e-9 * w4) - ln_w3_over_mpa_w1 - w1 * std::log(100e6)) / w2
-                                     : -std::numeric_limits<double>::infinity();
-  const double p_scale = Fz / (2.0 * a) / (2.0 * b);  // p = p_scale g_x g_y
-  const double sat_floor = friction_.saturation(fr.p_0_pa);
-  const bool entry = entryTransient(a, kx, Vr);
-  const XGrid& xg = entry ? entry_x_grid_ : x_grid_;
-  const YGrid& yg = entry && !entry_y_grid_.eta.empty() ? entry_y_grid_ : y_grid_;
-  const int n = static_cast<int>(xg.s.size()) - 1;
-  const int ny = static_cast<int>(yg.eta.size());
-  // Mirror symmetry in y: v_r does not depend on y without turn slip, and g_y is even.
-  const bool mirror = options_.use_symmetry && yg.symmetric && Omega == 0.0;
-  const int n_active = mirror ? (ny + 1) / 2 : ny;
-  const int passes = Omega == 0.0 ? 1 : options_.turn_slip_iterations;
+  k.z_wear_cut = k.w4 > 0.0 ? (std::log(1e-9 * k.w4) - k.ln_w3_over_mpa_w1 - k.w1 * std::log(100e6)) / k.w2
+                            : -std::numeric_limits<double>::infinity();
+  k.refine = initial_budget_ > 0;
+  k.damping_ratio = options.refinement.damping_ratio;
+  return k;
+}
 
-  const int max_level = options_.refinement.max_level;
-  const double edge_weight = 1.0 / (1.0 + w1) - 0.5;
-  const int initial_budget = max_level > 0 ? options_.refinement.node_budget : 0;
-  int refinement_budget = initial_budget;
-  march::Constants constants;
-  constants.vrx0 = vrx0;
-  constants.vry0 = vry0;
-  constants.omega = Omega;
-  constants.kx = kx;
-  constants.ky = ky;
-  constants.p_0 = fr.p_0_pa;
-  constants.sat_floor = sat_floor;
-  constants.mu_0 = fr.mu_0;
-  constants.dmu = fr.mu_m - fr.mu_0;
-  constants.savkoor_c = fr.h * fr.h / (std::log(10.0) * std::log(10.0));
-  constants.ln_vm = std::log(v_m);
-  constants.z_floor = std::log(options_.creep_floor_mps);
-  constants.savkoor_floor = friction_.savkoor(options_.creep_floor_mps);
-  constants.tol = options_.root_tolerance;
-  constants.max_iterations = options_.max_root_iterations;
-  constants.passes = passes;
-  constants.w1 = w1;
-  constants.w2 = w2;
-  constants.w4 = w4;
-  constants.ln_w3_over_mpa_w1 = ln_w3_over_mpa_w1;
-  constants.z_wear_cut = z_wear_cut;
-  constants.v_m = v_m;
-  constants.refine = initial_budget > 0;
-  constants.m = m;
-  constants.cx = cx;
-  constants.cy = cy;
-  constants.damping_ratio = options_.refinement.damping_ratio;
-
-  // Per-strip state and per x step work, structure of arrays (march::advance* run packs of strips
-  // on them); the strips from n_active to the end of the last pack are zero and never read back.
-  const int n_padded = std::min(n_active + march::kMaxLanes, march::kCapacity);
-  // Two path states, at node i and at node i + 1, swapped after each x step: a step redone in
-  // substeps starts again from node i without a copy.
-  march::PathState paths[2];
-  march::PathState* el = &paths[0];
-  march::PathState* next = &paths[1];
-  // Node solutions at node i and at node i + 1, swapped after each x step: those at node i are the
-  // start of the trapezoid correction of a step redone in substeps.
-  march::NodeLanes node_buffers[2];
-  march::NodeLanes* prev_nodes = &node_buffers[0];
-  march::NodeLanes* nodes = &node_buffers[1];
-  march::StripConstants strip_constants;
-  // Of a strip whose step was redone in substeps: the last such step and its substep length [x/a]; the
-  // number of strips redone in the previous step.
-  int refined_step[GridSpec::kMaxStrips];
-  double substep_ds[GridSpec::kMaxStrips];
-  int level[GridSpec::kMaxStrips];  // of the current step: 2^level substeps, 0 where it stands
-  int n_back = 0;
-  // Per x step: step terms of strips coming back from substeps. The quadrature sums of the packs.
-  march::StepTermLanes back;
-  march::PatchSums sums{};
-  for (int j = 0; j < n_padded; ++j) {
-    const bool active = j < n_active;
-    const double mirror_factor = (mirror && 2 * j + 1 != ny) ? 2.0 : 1.0;  // a mirrored pair counts twice
-    strip_constants.weight[j] = active ? yg.wy[j] * mirror_factor : 0.0;
-    strip_constants.y_mz[j] = active && !mirror ? b * yg.eta[j] : 0.0;
-    strip_constants.y[j] = active ? b * yg.eta[j] : 0.0;
-    strip_constants.gy[j] = active ? yg.gy[j] : 0.0;
-    strip_constants.sat_y[j] = active ? yg.sat_y[j] : 0.0;
-    for (auto field : march::kStateFields) (el->*field)[j] = 0.0;
-    el->ux[j] = active && options_.enter_at_road_velocity ? vrx0 + Omega * b * yg.eta[j] : 0.0;
-    el->uy[j] = active && options_.enter_at_road_velocity ? vry0 - Omega * a : 0.0;
+void BrushWearModel::Sweep::initStrips(bool enter_at_road_velocity) {
+  const double a = patch_.halfLength(), b = patch_.halfWidth();
+  for (int j = 0; j < n_padded_; ++j) {  // the strips from n_active_ on are zero and never read back
+    const bool active = j < n_active_;
+    const double mirror_factor = (mirror_ && 2 * j + 1 != ny_) ? 2.0 : 1.0;  // a mirrored pair counts twice
+    strips_.weight[j] = active ? yg_.wy[j] * mirror_factor : 0.0;
+    strips_.y_mz[j] = active && !mirror_ ? b * yg_.eta[j] : 0.0;
+    strips_.y[j] = active ? b * yg_.eta[j] : 0.0;
+    strips_.gy[j] = active ? yg_.gy[j] : 0.0;
+    strips_.sat_y[j] = active ? yg_.sat_y[j] : 0.0;
+    // Entry state: relaxed, at rest relative to the wheel, or with the road's velocity u = v_r.
+    for (auto field : march::kStateFields) (el_->*field)[j] = 0.0;
+    const bool at_road = active && enter_at_road_velocity;
+    el_->ux[j] = at_road ? kin_.v_rx0_mps + kin_.omega_rad_per_s * b * yg_.eta[j] : 0.0;
+    el_->uy[j] = at_road ? kin_.vry(a) : 0.0;
   }
-  for (int j = 0; j < n_active; ++j) refined_step[j] = -2;  // none
-  march::RootCounts root_counts;
+  for (int j = 0; j < n_active_; ++j) refined_step_[j] = -2;  // none
+}
 
-  Integrands total;  // the integrals of Eq 20 and the stick areas: N, N m, kg/s, m^2
-  if (fields) {
-    for (int i = 0; i <= n; ++i) fields->x_m[i] = a * xg.s[i];
-    fields->n_strips = ny;
-    for (int j = 0; j < ny; ++j) fields->y_m[j] = b * yg.eta[j];
+march::StepTerms BrushWearModel::Sweep::stepTerms(double ds, const march::Bdf2& c, double w) const {
+  march::StepTerms t;
+  t.c = c;
+  t.w = w;
+  t.g = c.beta * patch_.halfLength() * ds / vr_mps_;
+  t.m_over_g = constants_.m / t.g;
+  t.dx = t.m_over_g + constants_.cx + constants_.kx * t.g;
+  t.dy = t.m_over_g + constants_.cy + constants_.ky * t.g;
+  t.inv_dx = 1.0 / t.dx;
+  t.inv_dy = 1.0 / t.dy;
+  return t;
+}
+
+/// p / g_y [Pa] and the x factor of sat(p) at x/a = s from the grid's g_x even part and its power -q there and the
+/// shift factor (1 - B s)^-q: (p/p_ref)^-q separates into this evaluation's scale and those factors (no pow).
+double BrushWearModel::Sweep::pressureFrom(double gx_even, double sat_gx, double s, double shift,
+                                           double* sat_x) const {
+  const double px = std::max(0.0, p_scale_pa_ * gx_even * (1.0 - bx_ * s));
+  *sat_x = px > 0.0 ? sat_scale_ * sat_gx * shift : 0.0;
+  return px;
+}
+
+/// pressureFrom at grid node i, computed for a chunk of nodes at a time, so that the independent series of the
+/// shift factor overlap instead of each waiting in the x step's chain.
+double BrushWearModel::Sweep::pressureAtNode(int i, double* sat_x) {
+  if (i >= chunk_first_ + kNodeChunk) {
+    chunk_first_ = i;
+    const int count = std::min(kNodeChunk, n_ + 1 - i);
+    double shift_u[kNodeChunk], shift[kNodeChunk];
+    for (int k = 0; k < count; ++k) shift_u[k] = bx_ * xg_.s[i + k];
+    model_.shift_saturation_(shift_u, count, shift_terms_, shift);
+    for (int k = 0; k < count; ++k)
+      chunk_px_[k] = pressureFrom(xg_.gx_even[i + k], xg_.sat_gx[i + k], xg_.s[i + k], shift[k], &chunk_sat_[k]);
   }
+  *sat_x = chunk_sat_[i - chunk_first_];
+  return chunk_px_[i - chunk_first_];
+}
 
-  auto store = [&](int i, int j, const NodeSolution& o, const march::PathState& state) {
-    const unsigned char st = o.stuck ? 0 : (o.s <= v_m ? 1 : 2);
-    for (int jj : {j, ny - 1 - j}) {
-      const int k = fields->index(i, jj);
-      fields->pressure_pa[k] = o.p;
-      fields->tau_x_pa[k] = o.tx;
-      fields->tau_y_pa[k] = o.ty;
-      fields->v_sx_mps[k] = o.vsx;
-      fields->v_sy_mps[k] = o.vsy;
-      fields->delta_x_m[k] = state.dlx[j];
-      fields->delta_y_m[k] = state.dly[j];
-      fields->wear_kg_per_m3[k] = o.wt / V;
-      fields->state[k] = st;
-      if (!mirror) break;
-    }
-  };
+void BrushWearModel::Sweep::leadingEdge() {
+  const double a = patch_.halfLength(), b = patch_.halfWidth();
+  const double w0 = xg_.wx[0] * a * b;
+  march::NodeLanes& o = *prev_nodes_;
+  for (int j = 0; j < n_active_; ++j) {  // no friction: the element slips at u - v_r
+    const double vsx = el_->ux[j] - kin_.vrx(b * yg_.eta[j]), vsy = el_->uy[j] - kin_.vry(a);
+    const double vs = std::sqrt(vsx * vsx + vsy * vsy);
+    o.p[j] = o.tx[j] = o.ty[j] = o.z[j] = o.mup[j] = o.s_dmup[j] = o.refine_rate[j] = 0.0;
+    o.vsx[j] = vsx;
+    o.vsy[j] = vsy;
+    o.s[j] = vs;
+    o.wt[j] = constants_.w4;
+    o.stuck[j] = vs == 0.0 ? 1.0 : 0.0;
+    total_.add(w0 * strips_.weight[j], integrandsOf(nodeOf(o, j), a, strips_.y_mz[j], constants_.v_m));
+    if (fields_) storeNode(0, j, nodeOf(o, j), *el_);
+  }
+}
 
-  // Implicit terms of a step of length ds [x/a] with BDF2 coefficients c.
-  auto stepTerms = [&](double ds, const Bdf2& c, double w) {
-    march::StepTerms t;
-    t.c = c;
-    t.w = w;
-    t.g = c.beta * a * ds / Vr;
-    t.m_over_g = m / t.g;
-    t.dx = t.m_over_g + cx + kx * t.g;
-    t.dy = t.m_over_g + cy + ky * t.g;
-    t.inv_dx = 1.0 / t.dx;
-    t.inv_dy = 1.0 / t.dy;
-    return t;
-  };
+void BrushWearModel::Sweep::step(int i) {
+  const double a = patch_.halfLength();
+  const Step& sp = xg_.steps[i];
+  const march::StepTerms coarse = stepTerms(sp.ds, march::Bdf2{sp.a1, sp.a2, sp.beta}, sp.w);
+  march::Node node;
+  node.x = a * xg_.s[i + 1];
+  node.px = pressureAtNode(i + 1, &node.sat_x);
+  const double wxa = xg_.wx[i + 1] * a * patch_.halfWidth();
+  // All strips advance to node i + 1 together; then runs of neighbouring strips that need the same number of
+  // substeps redo the step together, in packs again.
+  if (n_back_ > 0) setReturningStepTerms(i, coarse);
+  const march::StepArgs args{&constants_, &strips_, &coarse, n_back_ > 0 ? &back_ : nullptr, node, wxa, &sums_};
+  model_.advance_(args, 0, n_active_, *el_, next_, nodes_, &root_counts_);
+  // The packs added the coarse node solutions to sums_. What this step adds besides, weighted by strip: the
+  // change of node values by substeps (times the node's area weight wxa) and the corrections of trapezoids and
+  // edge intervals (in x/a, times a b).
+  Integrands node_change, corrections;
+  chooseSubstepLevels(a * sp.ds / vr_mps_);
+  int n_refined = 0;
+  for (int j0 = 0, j1 = 0; j0 < n_active_; j0 = j1) {
+    for (j1 = j0 + 1; j1 < n_active_ && level_[j1] == level_[j0];) ++j1;
+    if (level_[j0] == 0) continue;
+    redoInSubsteps(i, j0, j1, node, &node_change, &corrections);
+    n_refined += j1 - j0;
+  }
+  if (i == 0 || i == n_ - 1) addEdgeWear(i, &corrections);
+  if (fields_)
+    for (int j = 0; j < n_active_; ++j) storeNode(i + 1, j, nodeOf(*nodes_, j), *next_);
+  n_back_ = n_refined;
+  std::swap(el_, next_);
+  std::swap(prev_nodes_, nodes_);
+  total_.add(wxa, node_change);
+  total_.add(a * patch_.halfWidth(), corrections);
+}
 
-  // Pressure factor p / g_y [Pa] and the x factor of sat(p) at grid node i, where (p/p_ref)^-q separates into
-  // this evaluation's scale, the grid's gx_even^-q and the centre shift's (1 - Bx s)^-q (a short series, no
-  // pow); the same at the substep nodes below. Computed for a chunk of nodes at a time, so that the
-  // independent series of the nodes overlap instead of each waiting in the x step's chain.
-  const double sat_scale = std::pow(p_scale / fr.p_ref_pa, -fr.q);
-  // p / g_y and sat_x at x/a = s from the grid's gx_even and gx_even^-q there and the shift factor (1 - Bx s)^-q.
-  auto pressureFrom = [&](double gx_even, double sat_gx, double s, double shift, double* sat_x) {
-    const double px = std::max(0.0, p_scale * gx_even * (1.0 - Bx * s));
-    *sat_x = px > 0.0 ? sat_scale * sat_gx * shift : 0.0;
-    return px;
-  };
-  constexpr int kNodeChunk = 64;
-  double chunk_px[kNodeChunk], chunk_sat[kNodeChunk];
-  int chunk_first = -kNodeChunk;
-  const int shift_terms = shift_saturation_.terms(std::fabs(Bx));  // |Bx s| <= |Bx| on the patch
-  auto pressureAtNode = [&](int i, double* sat_x) {
-    if (i >= chunk_first + kNodeChunk) {
-      chunk_first = i;
-      const int count = std::min(kNodeChunk, n + 1 - i);
-      double shift_u[kNodeChunk], shift[kNodeChunk];
-      for (int k = 0; k < count; ++k) shift_u[k] = Bx * xg.s[i + k];
-      shift_saturation_(shift_u, count, shift_terms, shift);
-      for (int k = 0; k < count; ++k)
-        chunk_px[k] = pressureFrom(xg.gx_even[i + k], xg.sat_gx[i + k], xg.s[i + k], shift[k], &chunk_sat[k]);
-    }
-    *sat_x = chunk_sat[i - chunk_first];
-    return chunk_px[i - chunk_first];
-  };
-
-  {  // Leading edge: p = 0, no friction; the element slips at u - v_r.
-    const double w0 = xg.wx[0] * a * b;
-    for (int j = 0; j < n_active; ++j) {
-      const double y = b * yg.eta[j];
-      const double vsx = el->ux[j] - (vrx0 + Omega * y), vsy = el->uy[j] - (vry0 - Omega * a);
-      const double vs = std::sqrt(vsx * vsx + vsy * vsy);
-      march::NodeLanes& o = *prev_nodes;
-      o.p[j] = o.tx[j] = o.ty[j] = o.z[j] = o.mup[j] = o.s_dmup[j] = o.refine_rate[j] = 0.0;
-      o.vsx[j] = vsx;
-      o.vsy[j] = vsy;
-      o.s[j] = vs;
-      o.wt[j] = w4;
-      o.stuck[j] = vs == 0.0 ? 1.0 : 0.0;
-      total.add(w0 * strip_constants.weight[j], integrands(nodeOf(o, j), a, strip_constants.y_mz[j]));
-      if (fields) store(0, j, nodeOf(o, j), *el);
+/// The step terms of x step i per strip, for the strips coming back from substeps in step i - 1: after substeps
+/// the step ratio is 2^level; variable-step BDF2 is zero-stable only below 1 + sqrt(2), so a larger jump
+/// restarts with one BDF1 step.
+void BrushWearModel::Sweep::setReturningStepTerms(int i, const march::StepTerms& coarse) {
+  const double ds = xg_.steps[i].ds;
+  for (int j = 0; j < n_padded_; ++j) {
+    if (j < n_active_ && refined_step_[j] == i - 1) {
+      const double w_back = ds / substep_ds_[j];
+      back_.set(j, stepTerms(ds, bdf2Coefficients(w_back > 2.0 ? 0.0 : w_back), w_back));
+    } else {
+      back_.set(j, coarse);
     }
   }
+}
 
-  for (int i = 0; i < n; ++i) {
-    const Step& sp = xg.steps[i];
-    const march::StepTerms coarse = stepTerms(sp.ds, Bdf2{sp.a1, sp.a2, sp.beta}, sp.w);
-    const double h = a * sp.ds / Vr;  // step duration [s]
-    const double x = a * xg.s[i + 1];
-    double sat_x;
-    const double px = pressureAtNode(i + 1, &sat_x);
-    const double wxa = xg.wx[i + 1] * a * b;
-    const bool edge_step = i == 0 || i == n - 1;
-    // All strips advance to node i + 1 together; then runs of neighbouring strips that need the same number of
-    // substeps redo the step together, in packs again.
-    if (n_back > 0) {
-      // After substeps the step ratio is 2^level; variable-step BDF2 is zero-stable only below
-      // 1 + sqrt(2), so a larger jump restarts with one BDF1 step.
-      for (int j = 0; j < n_padded; ++j) {
-        if (j < n_active && refined_step[j] == i - 1) {
-          const double w_back = sp.ds / substep_ds[j];
-          back.set(j, stepTerms(sp.ds, bdf2Coefficients(w_back > 2.0 ? 0.0 : w_back), w_back));
-        } else {
-          back.set(j, coarse);
-        }
-      }
-    }
-    const march::StepArgs args{&constants, &strip_constants, &coarse, n_back > 0 ? &back : nullptr,
-                               {x, px, sat_x}, wxa, &sums};
-    advance_(args, 0, n_active, *el, next, nodes, &root_counts);
-    // The packs added the coarse node solutions to `sums`. What this step adds besides, weighted by strip:
-    // the change of node values by substeps (times the node's area weight wxa) and the corrections of
-    // trapezoids and edge intervals (in x/a, times a b).
-    Integrands node_change, corrections;
-    // Substeps: per strip the smallest level L with rate h / 2^L <= resolution, within max_level and the
-    // node budget (spent in strip order); 0 where the step stands.
-    int n_refined = 0;
-    for (int j = 0; j < n_active; ++j) {
-      const double rate = nodes->refine_rate[j];
-      level[j] = 0;
-      if (!(rate > 0.0) || refinement_budget <= 0) continue;
-      const double r = rate * h / options_.refinement.resolution;
-      if (r > 1.0) level[j] = std::min(max_level, static_cast<int>(std::ceil(std::log2(r))));
-      while (level[j] > 0 && (1 << level[j]) > refinement_budget) --level[j];  // never beyond the node budget
-      refinement_budget -= level[j] > 0 ? 1 << level[j] : 0;
-    }
-    // Redo the step of strips [j0, j1) (one level L) in 2^L equal substeps ending on the node, in packs as the
-    // coarse step; integrate their outputs over the substeps by the trapezoid rule and add the difference to
-    // their coarse trapezoids, and replace their coarse node values in the node sums.
-    auto redoInSubsteps = [&](int j0, int j1, int level_of_run) {
-      const int k_sub = 1 << level_of_run;
-      const double dss = sp.ds / k_sub, hds = 0.5 * sp.ds, x_i = a * xg.s[i];
-      // A pack that runs past j1 also writes the lanes of the strips after the run: set them aside.
-      const int spill_end = std::min(j1 + march::kMaxLanes - 1, n_padded);
-      march::LaneCopy spill[march::kMaxLanes - 1];
-      for (int j = j1; j < spill_end; ++j) march::saveLane(*next, *nodes, j, &spill[j - j1]);
-      // The first substep's BDF2 coefficients follow each strip's last step (coarse, or substeps); the
-      // lanes past the run get any valid terms.
-      const march::StepTerms inner = stepTerms(dss, bdf2Coefficients(1.0), 1.0);
-      for (int j = j0; j < j1; ++j) {
-        const double last_ds = refined_step[j] == i - 1 ? substep_ds[j] : (i > 0 ? xg.steps[i - 1].ds : 0.0);
-        const double w_in = last_ds > 0.0 ? dss / last_ds : 0.0;
-        back.set(j, stepTerms(dss, bdf2Coefficients(w_in), w_in));
-      }
-      for (int j = j1; j < spill_end; ++j) back.set(j, inner);
-      for (int j = j0; j < j1; ++j)
-        node_change.add(-strip_constants.weight[j], integrands(nodeOf(*nodes, j), x, strip_constants.y_mz[j]));
-      const int fine = 1 << max_level, stride = fine >> level_of_run;  // substep k is the finest grid's k stride
-      for (int k = 1; k <= k_sub; ++k) {
-        const double s_k = xg.s[i] - k * dss;  // substep node x/a (k * dss = k stride ds/fine exactly)
-        double sat_k = sat_x, px_k = px, x_k = x;
-        if (k < k_sub) {
-          const size_t sub = static_cast<size_t>(i) * (fine - 1) + (k * stride - 1);
-          px_k = pressureFrom(xg.sub_gx_even[sub], xg.sub_sat_gx[sub], s_k, shift_saturation_(Bx * s_k, shift_terms),
-                              &sat_k);
-          x_k = a * s_k;
-        }
-        const march::StepArgs substep{&constants, &strip_constants, &inner, k == 1 ? &back : nullptr,
-                                      {x_k, px_k, sat_k}, 0.0, nullptr};
-        advance_(substep, j0, j1 - j0, k == 1 ? *el : *next, next, nodes, &root_counts);
-        const double c = k < k_sub ? dss : 0.5 * dss;  // trapezoid weight of substep node k
-        for (int j = j0; j < j1; ++j) {
-          const NodeSolution o = nodeOf(*nodes, j);
-          const double w = strip_constants.weight[j];
-          corrections.add(w * c, integrands(o, x_k, strip_constants.y_mz[j]));
-          // The sliding wear next to an edge of the patch (see the coarse case below), on the substep there.
-          if ((i == 0 && k == 1) || (i == n - 1 && k == k_sub - 1))
-            corrections.wear += w * edge_weight * dss * (o.wt - w4);
-        }
-      }
-      for (int j = j0; j < j1; ++j) {
-        const double w = strip_constants.weight[j], y_mz = strip_constants.y_mz[j];
-        const Integrands at_i = integrands(nodeOf(*prev_nodes, j), x_i, y_mz);
-        const Integrands o = integrands(nodeOf(*nodes, j), x, y_mz);
-        corrections.add(w * (0.5 * dss - hds), at_i);  // node i's share of the substeps, less the coarse trapezoid
-        corrections.add(-w * hds, o);
-        node_change.add(w, o);
-        refined_step[j] = i;
-        substep_ds[j] = dss;
-      }
-      for (int j = j1; j < spill_end; ++j) march::restoreLane(spill[j - j1], j, next, nodes);
-      n_refined += j1 - j0;
-    };
-    for (int j0 = 0, j1 = 0; j0 < n_active; j0 = j1) {
-      for (j1 = j0 + 1; j1 < n_active && level[j1] == level[j0];) ++j1;
-      if (level[j0] > 0) redoInSubsteps(j0, j1, level[j0]);
-    }
-    // Strips that need more than their node solution: the edge wear of the steps that stand, the fields.
-    if (edge_step || fields) {
-      for (int j = 0; j < n_active; ++j) {
-        const NodeSolution o = nodeOf(*nodes, j);
-        // p vanishes linearly at x = +-a, so the sliding wear ~ tau^w1 ~ p^w1 has an endpoint singularity
-        // there: on the interval next to an edge its integral is h f/(1 + w1), not the trapezoid's h f/2.
-        const double wt_inner = i == 0 ? o.wt : prev_nodes->wt[j];  // at the interval's end away from the edge
-        if (edge_step && level[j] == 0)
-          corrections.wear += strip_constants.weight[j] * edge_weight * sp.ds * (wt_inner - w4);
-        if (fields) store(i + 1, j, o, *next);
-      }
-    }
-    n_back = n_refined;
-    std::swap(el, next);
-    std::swap(prev_nodes, nodes);
-    total.add(wxa, node_change);
-    total.add(a * b, corrections);
+/// Per strip the smallest level L with rate h / 2^L <= resolution for the step's duration h [s], within
+/// max_level and the node budget (spent in strip order); 0 where the step stands.
+void BrushWearModel::Sweep::chooseSubstepLevels(double h) {
+  for (int j = 0; j < n_active_; ++j) {
+    const double rate = nodes_->refine_rate[j];
+    level_[j] = 0;
+    if (!(rate > 0.0) || refinement_budget_ <= 0) continue;
+    const double r = rate * h / model_.options_.refinement.resolution;
+    if (r > 1.0) level_[j] = std::min(max_level_, static_cast<int>(std::ceil(std::log2(r))));
+    while (level_[j] > 0 && (1 << level_[j]) > refinement_budget_) --level_[j];  // never beyond the node budget
+    refinement_budget_ -= level_[j] > 0 ? 1 << level_[j] : 0;
   }
+}
 
+/// Redoes x step i of strips [j0, j1) (one level L) in 2^L equal substeps ending on the coarse `node`, in packs
+/// as the coarse step; integrates their outputs over the substeps by the trapezoid rule, adds the difference to
+/// their coarse trapezoids, and replaces their coarse node values in the node sums.
+void BrushWearModel::Sweep::redoInSubsteps(int i, int j0, int j1, const march::Node& node, Integrands* node_change,
+                                           Integrands* corrections) {
+  const double v_m = constants_.v_m;
+  const double ds = xg_.steps[i].ds;
+  const double dss = ds / (1 << level_[j0]), hds = 0.5 * ds, x_i = patch_.halfLength() * xg_.s[i];
+  // A pack that runs past j1 also writes the lanes of the strips after the run: set them aside.
+  const int spill_end = std::min(j1 + march::kMaxLanes - 1, n_padded_);
+  march::LaneCopy spill[march::kMaxLanes - 1];
+  for (int j = j1; j < spill_end; ++j) march::saveLane(*next_, *nodes_, j, &spill[j - j1]);
+  const march::StepTerms inner = stepTerms(dss, bdf2Coefficients(1.0), 1.0);
+  setFirstSubstepTerms(i, j0, j1, spill_end, dss, inner);
+  for (int j = j0; j < j1; ++j)
+    node_change->add(-strips_.weight[j], integrandsOf(nodeOf(*nodes_, j), node.x, strips_.y_mz[j], v_m));
+  marchSubsteps(i, j0, j1, dss, inner, node, corrections);
+  for (int j = j0; j < j1; ++j) {
+    const double w = strips_.weight[j], y_mz = strips_.y_mz[j];
+    const Integrands at_i = integrandsOf(nodeOf(*prev_nodes_, j), x_i, y_mz, v_m);
+    const Integrands o = integrandsOf(nodeOf(*nodes_, j), node.x, y_mz, v_m);
+    corrections->add(w * (0.5 * dss - hds), at_i);  // node i's share of the substeps, less the coarse trapezoid
+    corrections->add(-w * hds, o);
+    node_change->add(w, o);
+    refined_step_[j] = i;
+    substep_ds_[j] = dss;
+  }
+  for (int j = j1; j < spill_end; ++j) march::restoreLane(spill[j - j1], j, next_, nodes_);
+}
+
+/// The first substep's BDF2 coefficients follow each strip's last step (coarse, or substeps); the lanes past the
+/// run, up to lanes_end, get any valid terms (`inner`).
+void BrushWearModel::Sweep::setFirstSubstepTerms(int i, int j0, int j1, int lanes_end, double dss,
+                                                 const march::StepTerms& inner) {
+  for (int j = j0; j < j1; ++j) {
+    const double last_ds = refined_step_[j] == i - 1 ? substep_ds_[j] : (i > 0 ? xg_.steps[i - 1].ds : 0.0);
+    const double w_in = last_ds > 0.0 ? dss / last_ds : 0.0;
+    back_.set(j, stepTerms(dss, bdf2Coefficients(w_in), w_in));
+  }
+  for (int j = j1; j < lanes_end; ++j) back_.set(j, inner);
+}
+
+/// The substeps of length dss [x/a] of strips [j0, j1) in x step i, ending on the coarse `node`, and their
+/// trapezoids (Eq 20) with the endpoint weight of the sliding wear on a substep next to an edge (addEdgeWear).
+void BrushWearModel::Sweep::marchSubsteps(int i, int j0, int j1, double dss, const march::StepTerms& inner,
+                                          const march::Node& node, Integrands* corrections) {
+  const int k_sub = 1 << level_[j0];
+  const int fine = 1 << max_level_, stride = fine >> level_[j0];  // substep k is the finest grid's k stride
+  for (int k = 1; k <= k_sub; ++k) {
+    march::Node sub = node;
+    if (k < k_sub) {
+      const double s_k = xg_.s[i] - k * dss;  // substep node x/a (k * dss = k stride ds/fine exactly)
+      const size_t m = static_cast<size_t>(i) * (fine - 1) + (k * stride - 1);
+      sub.px = pressureFrom(xg_.sub_gx_even[m], xg_.sub_sat_gx[m], s_k,
+                            model_.shift_saturation_(bx_ * s_k, shift_terms_), &sub.sat_x);
+      sub.x = patch_.halfLength() * s_k;
+    }
+    const march::StepArgs args{&constants_, &strips_, &inner, k == 1 ? &back_ : nullptr, sub, 0.0, nullptr};
+    model_.advance_(args, j0, j1 - j0, k == 1 ? *el_ : *next_, next_, nodes_, &root_counts_);
+    const double c = k < k_sub ? dss : 0.5 * dss;  // trapezoid weight of substep node k
+    for (int j = j0; j < j1; ++j) {
+      const NodeSolution o = nodeOf(*nodes_, j);
+      const double w = strips_.weight[j];
+      corrections->add(w * c, integrandsOf(o, sub.x, strips_.y_mz[j], constants_.v_m));
+      if ((i == 0 && k == 1) || (i == n_ - 1 && k == k_sub - 1))
+        corrections->wear += w * edge_weight_ * dss * (o.wt - constants_.w4);
+    }
+  }
+}
+
+/// p vanishes linearly at x = +-a, so the sliding wear ~ tau^w1 ~ p^w1 has an endpoint singularity there: on the
+/// interval next to an edge its integral is h f/(1 + w1), not the trapezoid's h f/2. For the strips whose edge
+/// step i stands (those redone in substeps got it on their substep there).
+void BrushWearModel::Sweep::addEdgeWear(int i, Integrands* corrections) const {
+  const double ds = xg_.steps[i].ds;
+  for (int j = 0; j < n_active_; ++j) {
+    const double wt_inner = i == 0 ? nodes_->wt[j] : prev_nodes_->wt[j];  // at the interval's end away from the edge
+    if (level_[j] == 0) corrections->wear += strips_.weight[j] * edge_weight_ * ds * (wt_inner - constants_.w4);
+  }
+}
+
+void BrushWearModel::Sweep::storeNode(int i, int j, const NodeSolution& o, const march::PathState& state) const {
+  const unsigned char st = o.stuck ? 0 : (o.s <= constants_.v_m ? 1 : 2);
+  for (int jj : {j, ny_ - 1 - j}) {
+    const int k = fields_->index(i, jj);
+    fields_->pressure_pa[k] = o.p;
+    fields_->tau_x_pa[k] = o.tx;
+    fields_->tau_y_pa[k] = o.ty;
+    fields_->v_sx_mps[k] = o.vsx;
+    fields_->v_sy_mps[k] = o.vsy;
+    fields_->delta_x_m[k] = state.dlx[j];
+    fields_->delta_y_m[k] = state.dly[j];
+    fields_->wear_kg_per_m3[k] = o.wt / v_mps_;
+    fields_->state[k] = st;
+    if (!mirror_) break;
+  }
+}
+
+void BrushWearModel::Sweep::results(WearResult* result) const {
+  Integrands total = total_;
   for (int lane = 0; lane < march::kMaxLanes; ++lane)
-    total.add(1.0, {sums.fx[lane], sums.fy[lane], sums.mz[lane], sums.wear[lane], sums.stick[lane], sums.exact[lane]});
-  const double area = 4.0 * a * b;  // sum of the weights equals the area exactly
+    total.add(1.0, {sums_.fx[lane], sums_.fy[lane], sums_.mz[lane], sums_.wear[lane], sums_.stick[lane],
+                    sums_.exact[lane]});
+  const double area = patch_.area();  // sum of the weights equals the area exactly
   result->fx_n = total.fx;
   result->fy_n = total.fy;
   result->mz_nm = total.mz;
   result->wear_rate_kg_per_s = total.wear;
-  result->wear_rate_kg_per_m = total.wear / V;
+  result->wear_rate_kg_per_m = total.wear / v_mps_;
   result->stick_fraction = total.stick / area;
   result->slide_fraction = 1.0 - result->stick_fraction;
   result->exact_stick_fraction = total.exact / area;
-  result->half_length_m = a;
-  result->half_width_m = b;
-  result->max_root_iterations = root_counts.max_iterations;
-  result->root_iterations = root_counts.total;
-  result->refined_substeps = initial_budget - refinement_budget;
+  result->half_length_m = patch_.halfLength();
+  result->half_width_m = patch_.halfWidth();
+  result->max_root_iterations = root_counts_.max_iterations;
+  result->root_iterations = root_counts_.total;
+  result->refined_substeps = initial_budget_ - refinement_budget_;
+}
+
+void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, PatchFields* fields) const {
+  // Footprint and pressure (Eqs 6-9).
+  const ContactPatch patch(params_.footprint, op.load_n);
+  // The grids: the entry-transient ones where an element crosses the patch within its natural period.
+  const bool entry =
+      entryTransient(patch.halfLength(), params_.tread.longitudinalStiffness(op.load_n), op.rollingSpeed());
+  const YGrid& yg = entry && !entry_y_grid_.eta.empty() ? entry_y_grid_ : y_grid_;
+  Sweep sweep(*this, op, patch, entry ? entry_x_grid_ : x_grid_, yg, fields);
+  // Element march (Eqs 12-18) from the leading to the trailing edge, adding the integrands of Eq 20.
+  sweep.leadingEdge();
+  for (int i = 0; i < sweep.steps(); ++i) sweep.step(i);
+  // Forces, aligning moment, wear rate (Eq 20) and the stick areas.
+  sweep.results(result);
 }
 
 }  // namespace tread_wear

@@ -25,7 +25,7 @@ ContactPatch::ContactPatch(const FootprintParams& params, double load_n)
     : load_n_(load_n),
       a_m_(params.halfLength(load_n)),
       b_m_(params.b_m),
-      gx_(params.n_x, params.lambda_x, params.x_e_m / params.halfLength(load_n)),
+      gx_(params.n_x, params.lambda_x, params.x_e_m / a_m_),
       gy_(params.n_y, params.lambda_y, params.y_e_m / params.b_m) {}
 
 double ContactPatch::lineLoad(double x_m) const { return load_n_ / (2.0 * a_m_) * gx_(x_m / a_m_); }

@@ -36,7 +36,7 @@
 /// trapezoid weights, BDF2 coefficients, pressure shapes and their sat(p) factors, since
 /// (p/p_ref)^-q separates into an x and a y factor) is precomputed at construction; per evaluation
 /// the marcher sweeps x once with all strips side by side, so per-step quantities are computed once.
-/// Each x step runs the strips in SIMD packs (src/core/brush_march.h: four strips per AVX2 register
+/// Each x step runs the strips in SIMD packs (src/model/brush_march.h: four strips per AVX2 register
 /// where the CPU has AVX2 and FMA, else two per SSE2 register on x86-64, else one strip at a time):
 /// the per-strip state is kept in structure-of-arrays form, every phase (history terms, trial stress
 /// and stick test, slide root, update, wear law) runs on all lanes with masks instead of branches, the
@@ -68,7 +68,7 @@
 
 namespace tread_wear {
 
-namespace march {  // the marcher's x step (src/core/brush_march.h)
+namespace march {  // the marcher's x step (src/model/brush_march.h)
 struct StepArgs;
 struct PathState;
 struct NodeLanes;
@@ -103,11 +103,6 @@ struct GridSpec {
   int entry_strips = 0;
 
   bool validate(std::string* error) const;
-};
-
-enum class TurnSlipOrientation {
-  kLiteral,  ///< path curvature used as given (Eq 14 read literally for the rig tables)
-  kFlipped   ///< path curvature negated: slip angle oriented the other way against the track curve
 };
 
 /// Local step refinement along the element path (per strip and x step). Sliding on the
@@ -234,6 +229,8 @@ class BrushWearModel {
   /// Whether an element crosses the patch of half length a within entry_transit_periods of its natural
   /// period 2 pi sqrt(m/k_x) (k_x from Eq 13) at this rolling speed: then the entry-transient grids apply.
   bool entryTransient(double half_length_m, double kx_pa_per_m, double rolling_speed_mps) const;
+  /// One evaluation's march across the patch: its constants and its workspace on evaluate()'s stack.
+  class Sweep;
 
   TireParams params_;
   BrushOptions options_;

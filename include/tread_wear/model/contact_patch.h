@@ -48,6 +48,9 @@ class ContactPatch {
   double halfLength() const { return a_m_; }         ///< a [m]
   double halfWidth() const { return b_m_; }          ///< b [m]
   double area() const { return 4.0 * a_m_ * b_m_; }  ///< 4ab [m^2]
+  /// Fz/(2a)/(2b) [Pa], the constant of Eqs 7-8: p(x, y) = pressureScale() g_x(x/a) g_y(y/b). For callers that
+  /// evaluate the shapes themselves (the marcher keeps g_x's even part on its grid, see shapeX()).
+  double pressureScale() const { return load_n_ / (2.0 * a_m_) / (2.0 * b_m_); }
   /// Line load f_z(x) [N/m] (Eq 7).
   double lineLoad(double x_m) const;
   /// Contact pressure p(x, y) [Pa] (Eq 8); zero outside the footprint.

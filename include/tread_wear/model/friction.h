@@ -32,6 +32,8 @@ class SavkoorFriction {
   /// With C = h^2/ln(10)^2 and l = ln(v_s/v_m) it is reached at l* = (sqrt(1 + 8 C) - 1)/(4 C), where
   /// d/dl ln(l exp(-C l^2 - l)) = 0: (mu_m - mu_0) 2 C l* exp(-C l*^2) / (v_m exp(l*)).
   double maxWeakeningSlope() const;
+  /// C = h^2/ln(10)^2 [-]: the bracket of Eq 10 is mu_0 + (mu_m - mu_0) exp(-C ln^2(v_s/v_m)).
+  double savkoorC() const { return h2_over_ln10sq_; }
   /// Full coefficient mu(v_s, p) [-] (Eq 10).
   double coefficient(double v_s_mps, double p_pa) const { return saturation(p_pa) * savkoor(v_s_mps); }
   const FrictionParams& params() const { return params_; }

@@ -23,6 +23,28 @@
 
 namespace tread_wear {
 
+/// Which way the slip angle is oriented against the track curve (model spec, "Kinematics": the paper does not
+/// pin it down; the calibration decides with data).
+enum class TurnSlipOrientation {
+  kLiteral,  ///< path curvature used as given (Eq 14 read literally for the rig tables)
+  kFlipped   ///< path curvature negated: slip angle oriented the other way against the track curve
+};
+
+/// The road's velocity relative to the wheel under the tread tip at (x + delta_x, y + delta_y) (Eq 14 generalised,
+/// see above), split into the slip terms and the yaw rate:
+///   v_rx = v_rx0 + Omega (y + delta_y),  v_ry = v_ry0 - Omega (x + delta_x)
+/// The one implementation of these terms for the marcher and the reference solver.
+struct TipKinematics {
+  double omega_rad_per_s = 0.0;  ///< Omega = V/R, the wheel's yaw rate over the road, sign per orientation [rad/s]
+  double v_rx0_mps = 0.0;        ///< kappa V_x [m/s]
+  double v_ry0_mps = 0.0;        ///< -V sin(alpha) [m/s]
+
+  /// v_rx [m/s] at the tip's lateral position y + delta_y [m].
+  double vrx(double y_tip_m) const { return v_rx0_mps + omega_rad_per_s * y_tip_m; }
+  /// v_ry [m/s] at the tip's longitudinal position x + delta_x [m].
+  double vry(double x_tip_m) const { return v_ry0_mps - omega_rad_per_s * x_tip_m; }
+};
+
 struct OperatingPoint {
   double speed_mps = 0.0;             ///< V, speed of the wheel centre over the road [m/s], >= 0
   double slip_angle_rad = 0.0;        ///< alpha [rad], |alpha| < pi/2
@@ -37,6 +59,12 @@ struct OperatingPoint {
   double longitudinalSpeed() const { return speed_mps * std::cos(slip_angle_rad); }
   /// Rolling speed V_r = V_x (1 + kappa) [m/s]: the speed at which tread elements cross the patch.
   double rollingSpeed() const { return longitudinalSpeed() * (1.0 + slip_ratio); }
+  /// Slip terms and yaw rate of v_r (Eq 14 generalised) with the path curvature oriented as `orientation` says.
+  TipKinematics tipKinematics(TurnSlipOrientation orientation) const {
+    const double curvature =
+        orientation == TurnSlipOrientation::kFlipped ? -path_curvature_per_m : path_curvature_per_m;
+    return {speed_mps * curvature, slip_ratio * longitudinalSpeed(), -speed_mps * std::sin(slip_angle_rad)};
+  }
 };
 
 }  // namespace tread_wear

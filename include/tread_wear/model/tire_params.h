@@ -51,6 +51,10 @@ struct TreadParams {
   double m_kg_per_m2 = 20.0;         ///< element inertia per unit area m [kg/m^2] = [Pa s^2/m]
 
   bool validate(std::string* error) const;
+  /// Lateral stiffness k_y = k_y0 + k_y1 Fz [Pa/m] at vertical load Fz [N] (Eq 13).
+  double lateralStiffness(double load_n) const { return k_y0_pa_per_m + k_y1_pa_per_m_n * load_n; }
+  /// Longitudinal stiffness k_x = phi k_y [Pa/m] at vertical load Fz [N] (Eq 13).
+  double longitudinalStiffness(double load_n) const { return phi * lateralStiffness(load_n); }
 };
 
 /// Generalized-friction-power wear law (Eqs 19-20) with the optional temperature factor (Eq 25).
@@ -66,6 +70,8 @@ struct WearLawParams {
   bool validate(std::string* error) const;
   /// Eq 25 factor on w3 for tread temperature T [degC]; 1 when disabled or T is not finite.
   double temperatureFactor(double tread_temperature_c) const;
+  /// w3 at tread temperature T [degC]: w3 times the Eq 25 factor [kg/(s m^2)].
+  double w3At(double tread_temperature_c) const { return w3_kg_per_s_m2 * temperatureFactor(tread_temperature_c); }
 };
 
 /// Rubber and tread geometry: converts mass loss into tread depth.
