@@ -12,3 +12,7 @@ set_target_properties(test_tread_wear_node PROPERTIES EXCLUDE_FROM_ALL OFF)
 add_rostest(test/ros/time_jump.test DEPENDENCIES test_tread_wear_node)
 add_rostest(test/ros/persistence.test DEPENDENCIES test_tread_wear_node)
 add_rostest(test/ros/bag.test DEPENDENCIES test_tread_wear_node)
+# The node's parts alone, without a master (test/ros/test_node_parts.cpp); its --help case runs the node binary.
+tread_wear_add_gtest(test_node_parts ${PROJECT_SOURCE_DIR}/test/ros/test_node_parts.cpp ${PROJECT_NAME}_ros)
+target_compile_definitions(test_node_parts PRIVATE TREAD_WEAR_NODE_BINARY="$<TARGET_FILE:${PROJECT_NAME}_node>")
+add_dependencies(test_node_parts ${PROJECT_NAME}_node)

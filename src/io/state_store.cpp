@@ -157,6 +157,14 @@ LoadResult StateStore::load() const {
     result.message = errnoText("cannot stat", path_);
     return result;
   }
+  // A directory (or a device, a pipe) at the path is no state file at all, corrupt or otherwise: reading it would
+  // look like empty content, and moving it aside would move someone else's data. Leave it and say what it is.
+  if (!S_ISREG(st.st_mode)) {
+    result.status = LoadStatus::kIoError;
+    result.message = "state file path " + path_ + " is " + (S_ISDIR(st.st_mode) ? "a directory" : "not a regular file") +
+                     ", not a state file";
+    return result;
+  }
   std::ifstream in(path_, std::ios::binary);
   if (!in) {
     result.status = LoadStatus::kIoError;

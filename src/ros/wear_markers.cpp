@@ -119,4 +119,28 @@ void appendWheelMarkers(const std::string& wheel, const std::string& frame_id, c
   array->markers.push_back(label);
 }
 
+WearMarkers::WearMarkers(const std::vector<std::unique_ptr<WheelPipeline>>& wheels) {
+  for (const auto& w : wheels)
+    wheels_.push_back({w.get(), std::make_unique<WearModel>(w->tire(), w->modelOptions()), PatchFields()});
+}
+
+void WearMarkers::build(const ros::Time& stamp, visualization_msgs::MarkerArray* array) {
+  for (Wheel& w : wheels_) {
+    const WheelSnapshot s = w.pipeline->snapshot();
+    WearResult result = s.output.result;
+    if (s.output.evaluated) {
+      w.model->setPreset(s.output.preset);
+      const BrushWearModel& solver = w.model->solver(s.output.preset);
+      w.fields.resize(solver.nodesX(), solver.strips());
+      // Empties the fields for a wheel off the ground: then only the label is drawn.
+      evaluateInputs(*w.model, s.step_inputs, s.step_time_s, w.pipeline->estimatorParams().stale_timeout_s, &result,
+                     &w.fields);
+    } else {
+      w.fields.resize(0, 0);
+    }
+    const WheelConfig& c = w.pipeline->config();
+    appendWheelMarkers(c.name, c.frame_id, stamp, w.fields, result, s.output, array);
+  }
+}
+
 }  // namespace tread_wear

@@ -40,7 +40,8 @@ enum class LoadStatus {
   kMissing = 1,       ///< no file: empty state (first start)
   kCorrupt = 2,       ///< unreadable, not JSON, or invalid values: moved aside
   kIncompatible = 3,  ///< another format or version: moved aside
-  kIoError = 4        ///< exists but cannot be read, or could not be moved aside: left in place
+  kIoError = 4        ///< exists but cannot be read, is no regular file (a directory), or could not be moved aside:
+                      ///< left in place
 };
 const char* loadStatusName(LoadStatus status);
 

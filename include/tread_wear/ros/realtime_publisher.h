@@ -2,49 +2,58 @@
 /// @file realtime_publisher.h
 /// Publishing from a real-time loop without allocation or blocking, after realtime_tools::RealtimePublisher
 /// (not packaged in Debian): the loop fills a preallocated message and hands it over with try_lock; a
-/// background thread copies and publishes it (serialisation allocates, so it must not happen in the loop).
-/// Flags are std::atomic (realtime_tools' volatile bool is not a synchronisation primitive).
+/// background thread copies it and passes the copy to the sink (a ros::Publisher in the node, a recorder in the
+/// tests), since serialisation allocates and must not happen in the loop. Flags are std::atomic (realtime_tools'
+/// volatile bool is not a synchronisation primitive).
 
-#include <ros/node_handle.h>
 #include <ros/publisher.h>
 
 #include <atomic>
 #include <condition_variable>
+#include <functional>
 #include <mutex>
-#include <string>
 #include <thread>
+#include <utility>
 
 namespace tread_wear {
 
 template <class Msg>
 class RealtimePublisher {
  public:
-  RealtimePublisher(ros::NodeHandle& nh, const std::string& topic, int queue_size, bool latch = false)
-      : publisher_(nh.advertise<Msg>(topic, queue_size, latch)), thread_(&RealtimePublisher::run, this) {}
+  using Sink = std::function<void(const Msg&)>;
+
+  /// Publishes on `publisher` (an advertised handle; copies share the advertisement).
+  explicit RealtimePublisher(ros::Publisher publisher)
+      : RealtimePublisher(Sink([publisher](const Msg& m) { publisher.publish(m); })) {}
+  explicit RealtimePublisher(Sink sink) : sink_(std::move(sink)), thread_(&RealtimePublisher::run, this) {}
   ~RealtimePublisher() { stop(); }
   RealtimePublisher(const RealtimePublisher&) = delete;
   RealtimePublisher& operator=(const RealtimePublisher&) = delete;
 
-  /// Real-time side: true if the message slot was free; then fill msg() and call unlockAndPublish().
+  /// Real-time side: true if the message slot is free; then fill msg() and call unlockAndPublish(). false while
+  /// the publisher thread holds the slot or has not taken the previous message yet: the caller skips this one.
   bool trylock() {
     if (!mutex_.try_lock()) return false;
-    if (pending_) {  // the previous message has not been taken yet: skip this one
+    if (pending_) {
       mutex_.unlock();
       return false;
     }
     return true;
   }
+  /// The preallocated message; only between a successful trylock() and unlockAndPublish().
   Msg& msg() { return msg_; }
   void unlockAndPublish() {
     pending_ = true;
     mutex_.unlock();
     cv_.notify_one();
   }
-  /// Messages the loop had to skip because the publisher thread was still busy [-].
-  std::uint64_t skipped() const { return skipped_.load(); }
-  void countSkip() { skipped_.fetch_add(1, std::memory_order_relaxed); }
+  /// Ends the publisher thread (a message not taken yet is dropped); idempotent.
   void stop() {
     if (!running_.exchange(false)) return;
+    {
+      // Under the lock, so that the thread cannot miss the notification between its check and its wait.
+      std::lock_guard<std::mutex> lock(mutex_);
+    }
     cv_.notify_one();
     if (thread_.joinable()) thread_.join();
   }
@@ -52,7 +61,7 @@ class RealtimePublisher {
  private:
   void run() {
     Msg outgoing;
-    while (running_) {
+    while (true) {
       {
         std::unique_lock<std::mutex> lock(mutex_);
         cv_.wait(lock, [this] { return pending_ || !running_; });
@@ -60,18 +69,17 @@ class RealtimePublisher {
         outgoing = msg_;
         pending_ = false;
       }
-      publisher_.publish(outgoing);
+      sink_(outgoing);
     }
   }
 
-  ros::Publisher publisher_;
+  Sink sink_;
   Msg msg_;
   std::mutex mutex_;
   std::condition_variable cv_;
   bool pending_ = false;  // guarded by mutex_
   std::atomic<bool> running_{true};
-  std::atomic<std::uint64_t> skipped_{0};
-  std::thread thread_;
+  std::thread thread_;  // last: starts once everything above is constructed
 };
 
 }  // namespace tread_wear

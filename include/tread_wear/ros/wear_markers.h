@@ -1,6 +1,6 @@
 #pragma once
 /// @file wear_markers.h
-/// rviz markers of one wheel's contact patch, drawn in the wheel's contact frame (ISO 8855 tire axes):
+/// rviz markers of each wheel's contact patch, drawn in the wheel's contact frame (ISO 8855 tire axes):
 ///   ns "<wheel>/wear"   the patch as cells coloured by the local wear rate w_r [kg/(m m^2)] on a log scale
 ///                       (dark blue = lowest in the patch, yellow = highest);
 ///   ns "<wheel>/zones"  the same cells beside it (offset to +y by 2.5 b) coloured by contact state:
@@ -11,10 +11,13 @@
 
 #include <visualization_msgs/MarkerArray.h>
 
+#include <memory>
 #include <string>
+#include <vector>
 
 #include "tread_wear/estimation/wheel_estimator.h"
 #include "tread_wear/model/brush_wear_model.h"
+#include "tread_wear/ros/wheel_pipeline.h"
 
 namespace tread_wear {
 
@@ -23,5 +26,24 @@ namespace tread_wear {
 void appendWheelMarkers(const std::string& wheel, const std::string& frame_id, const ros::Time& stamp,
                         const PatchFields& fields, const WearResult& result, const WheelOutput& output,
                         visualization_msgs::MarkerArray* array);
+
+/// The markers of every wheel's last loop step. The loop computes no local fields (they cost time the loop does
+/// not have), so each wheel's patch is evaluated again here, on a model of its own, at the operating point of that
+/// step (operatingPoint(): the loop's point, tread temperature included) and the preset the step used.
+class WearMarkers {
+ public:
+  /// The wheels must outlive this object.
+  explicit WearMarkers(const std::vector<std::unique_ptr<WheelPipeline>>& wheels);
+  /// Appends the markers of every wheel, stamped `stamp`, to *array.
+  void build(const ros::Time& stamp, visualization_msgs::MarkerArray* array);
+
+ private:
+  struct Wheel {
+    const WheelPipeline* pipeline;
+    std::unique_ptr<WearModel> model;
+    PatchFields fields;
+  };
+  std::vector<Wheel> wheels_;
+};
 
 }  // namespace tread_wear

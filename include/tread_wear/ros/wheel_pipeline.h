@@ -1,0 +1,138 @@
+#pragma once
+/// @file wheel_pipeline.h
+/// One wheel of tread_wear_node from its inputs to its wear message: the latest accepted inputs (validated on
+/// arrival by WheelInputs), the live model and estimator that the update loop steps, the planner model of the
+/// evaluate_wear service, the mounted tire's id and the evaluation timing. It knows ROS only as the message it
+/// fills: no node handle, so the tests drive it without a master (test/ros/test_node_parts.cpp).
+///
+/// Locks (each held for a copy or one step, never across calls):
+///   input mutex    subscriber callbacks (set*) <-> the loop's copy of the inputs in step();
+///   state mutex    the loop's step() <-> services, diagnostics, persistence and markers (snapshots);
+///   planner mutex  concurrent evaluate_wear calls on the planner model.
+/// step() and fillMessage() are the loop's: no allocation, logging or I/O (tire ids fit preallocated strings).
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "tread_wear/WheelWear.h"
+#include "tread_wear/WheelWearRate.h"
+#include "tread_wear/estimation/wheel_estimator.h"
+#include "tread_wear/io/state_store.h"
+#include "tread_wear/io/wheel_config.h"
+#include "tread_wear/model/wear_model.h"
+
+namespace tread_wear {
+
+/// The operating point of a wheel's inputs at time now_s [s]: load, speed and slips as they are; the tread
+/// temperature when valid and no older than stale_timeout_s [s], else NaN (unknown). The service, the markers
+/// and WheelEstimator::step() (which builds the same point inside the estimation module) evaluate this point.
+OperatingPoint operatingPoint(const WheelInputs& inputs, double now_s, double stale_timeout_s);
+
+/// Evaluates a wheel's inputs as the live estimator does: a zero load (wheel off the ground) carries no force and
+/// wears nothing (*result = WearResult(), *fields emptied, kOk); otherwise the model at operatingPoint() (fields, if
+/// given, sized for the preset as WearModel::evaluate() requires). Allocates nothing.
+EvalStatus evaluateInputs(const WearModel& model, const WheelInputs& inputs, double now_s, double stale_timeout_s,
+                          WearResult* result, PatchFields* fields = nullptr);
+
+/// The status code of WheelWear.status and WheelWearRate.status (one enumeration, the values of WheelStatus).
+std::uint8_t statusCode(WheelStatus status);
+
+/// Pre-sizes a wheel message's strings so that fillMessage() into it never allocates.
+void reserveStrings(tread_wear::WheelWear* msg);
+
+/// What diagnostics, persistence and the markers read of a wheel, copied under its locks.
+struct WheelSnapshot {
+  WheelInputs inputs;          ///< inputs as received (with their counters)
+  WheelInputs step_inputs;     ///< inputs of the last loop step
+  double step_time_s = 0.0;    ///< time of the last loop step [s] (node clock)
+  WheelOutput output;          ///< output of the last loop step
+  std::string tire_id;
+  double reset_unix_s = 0.0;   ///< wall time of the last tire change [s since 1970], 0 = unknown
+  std::uint64_t backward_jumps = 0, forward_jumps = 0, stale_steps = 0, evaluations = 0;
+  double unaccounted_time_s = 0.0;  ///< elapsed time not integrated [s]
+};
+
+class WheelPipeline {
+ public:
+  /// @throw std::invalid_argument for model options or estimator parameters that WearModel/WheelEstimator reject
+  WheelPipeline(const WheelConfig& config, const TireParams& tire, const NodeConfig& node);
+  /// Loads config.tire_params. @throw std::runtime_error naming the wheel and the file
+  static std::unique_ptr<WheelPipeline> load(const WheelConfig& config, const NodeConfig& node);
+
+  const WheelConfig& config() const { return config_; }
+  const TireParams& tire() const { return tire_; }
+  const WearModelOptions& modelOptions() const { return model_options_; }
+  const WheelEstimatorParams& estimatorParams() const { return estimator_params_; }
+
+  /// Subscriber side: validates and stores a sample that arrived at t_s [s]; the fault (kNone = accepted).
+  InputFault setLoad(double t_s, double load_n);
+  InputFault setSlip(double t_s, double slip_angle_rad, double slip_ratio, double path_curvature_per_m);
+  InputFault setSpeed(double t_s, double speed_mps);
+  InputFault setTemperature(double t_s, double temperature_c);
+
+  /// Loop side: one step at now_s [s] with the inputs as they are, the live model set to `preset` and budget_s [s]
+  /// first; an evaluation longer than deadline_us [us] counts as an overrun. The result stays valid until the
+  /// next step (loop thread only).
+  const WheelOutput& step(double now_s, Preset preset, double budget_s, double deadline_us);
+  /// Loop side: the last step as a wheel message stamped `stamp`; degraded = coarser than `configured`. Allocates
+  /// nothing in a message prepared by reserveStrings().
+  void fillMessage(const ros::Time& stamp, Preset configured, tread_wear::WheelWear* msg) const;
+
+  /// Planner (evaluate_wear): evaluateInputs() on the planner model at `preset`.
+  EvalStatus plan(const WheelInputs& inputs, Preset preset, WearResult* result);
+
+  /// Tire change: zero accumulators, new tire id (1..kMaxTireIdLength characters, checked by the caller), reset
+  /// time unix_s [s since 1970]; the old tire's id and accumulators.
+  WheelAccumulators changeTire(const std::string& tire_id, double unix_s, std::string* old_tire_id);
+  /// Persistence: the saved record of this wheel; restore() continues from one.
+  WheelRecord record() const;
+  void restore(const WheelRecord& record);
+  WheelSnapshot snapshot() const;
+
+  /// Evaluation timing of the loop (atomics: read by diagnostics at any time).
+  double lastEvaluation_us() const { return last_eval_us_.load(std::memory_order_relaxed); }
+  double maxEvaluation_us() const { return max_eval_us_.load(std::memory_order_relaxed); }
+  std::uint64_t deadlineOverruns() const { return overruns_.load(std::memory_order_relaxed); }
+  Preset activePreset() const { return static_cast<Preset>(active_preset_.load(std::memory_order_relaxed)); }
+  long degradedEvaluations() const { return degraded_count_.load(std::memory_order_relaxed); }
+
+ private:
+  WheelConfig config_;
+  TireParams tire_;
+  WearModelOptions model_options_;
+  WheelEstimatorParams estimator_params_;
+
+  mutable std::mutex input_mutex_;
+  WheelInputs inputs_;  ///< guarded by input_mutex_
+
+  mutable std::mutex state_mutex_;
+  std::unique_ptr<WearModel> model_;  ///< live model, loop only
+  WheelEstimator estimator_;          ///< guarded by state_mutex_
+  WheelInputs step_inputs_;           ///< guarded by state_mutex_
+  double step_time_s_ = 0.0;          ///< guarded by state_mutex_
+  std::string tire_id_;               ///< guarded by state_mutex_
+  double reset_unix_s_ = 0.0;         ///< guarded by state_mutex_
+
+  // The loop's own copies, read by fillMessage() without a lock.
+  WheelInputs loop_inputs_;
+  WheelOutput loop_output_;
+  std::string loop_tire_id_;  ///< capacity kMaxTireIdLength: assignments never allocate
+  double loop_unaccounted_s_ = 0.0;
+
+  std::mutex planner_mutex_;
+  std::unique_ptr<WearModel> planner_model_;  ///< guarded by planner_mutex_
+
+  std::atomic<double> last_eval_us_{0.0}, max_eval_us_{0.0};
+  std::atomic<std::uint64_t> overruns_{0};
+  std::atomic<int> active_preset_;
+  std::atomic<long> degraded_count_{0};
+};
+
+/// The wheel of that name among `wheels`, or nullptr.
+WheelPipeline* findWheel(const std::vector<std::unique_ptr<WheelPipeline>>& wheels, const std::string& name);
+
+}  // namespace tread_wear

@@ -1,0 +1,144 @@
+#include "tread_wear/ros/node_diagnostics.h"
+
+#include <ros/console.h>
+
+#include <chrono>
+#include <string>
+
+namespace tread_wear {
+namespace {
+
+double steadyNow_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+}  // namespace
+
+NodeDiagnostics::NodeDiagnostics(const std::vector<std::unique_ptr<WheelPipeline>>& wheels, const LoopStatus& loop,
+                                 const NodePersistence& persistence, const NodeReconfigure& reconfigure)
+    : wheels_(wheels), loop_(loop), persistence_(persistence), reconfigure_(reconfigure), history_(wheels.size()) {}
+
+void NodeDiagnostics::addTo(diagnostic_updater::Updater* updater) {
+  updater->setHardwareID("tread_wear");
+  updater->add("update loop", this, &NodeDiagnostics::diagnoseLoop);
+  updater->add("persistence", this, &NodeDiagnostics::diagnosePersistence);
+  for (std::size_t i = 0; i < wheels_.size(); ++i)
+    updater->add("wheel " + wheels_[i]->config().name, [this, i](diagnostic_updater::DiagnosticStatusWrapper& stat) {
+      diagnoseWheel(i, ros::Time::now().toSec(), steadyNow_s(), stat);
+    });
+}
+
+void NodeDiagnostics::diagnoseWheel(std::size_t index, double now_s, double wall_s,
+                                    diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  const WheelPipeline& w = *wheels_[index];
+  WheelHistory& h = history_[index];
+  const WheelSnapshot s = w.snapshot();
+  const WheelOutput& out = s.output;
+  const double dt = h.wall_s > 0.0 ? wall_s - h.wall_s : 0.0;
+  stat.add("tire_id", s.tire_id);
+  stat.add("status", wheelStatusName(out.status));
+  for (InputKind kind : {InputKind::kLoad, InputKind::kSlip, InputKind::kSpeed, InputKind::kTemperature}) {
+    const WheelInputs::Sample& sample = s.inputs.sample(kind);
+    const int k = static_cast<int>(kind);
+    const std::string name = inputKindName(kind);
+    const double rate = dt > 0.0 ? static_cast<double>(sample.received - h.received[k]) / dt : 0.0;
+    h.received[k] = sample.received;
+    stat.addf(name + " rate [Hz]", "%.1f", rate);
+    if (sample.received > 0 && sample.valid)
+      stat.addf(name + " age [s]", "%.3f", now_s - sample.stamp_s);
+    else
+      stat.add(name + " age [s]", sample.received == 0 ? "never received" : "invalid");
+    stat.add(name + " rejected", sample.rejected);
+  }
+  for (int f = 1; f < kInputFaultCount; ++f) {
+    const InputFault fault = static_cast<InputFault>(f);
+    if (s.inputs.faultCount(fault) > 0)
+      stat.add(std::string("invalid: ") + inputFaultName(fault), s.inputs.faultCount(fault));
+  }
+  stat.add("stale steps", s.stale_steps);
+  stat.add("time jumps backward", s.backward_jumps);
+  stat.add("time jumps forward", s.forward_jumps);
+  stat.addf("unaccounted time [s]", "%.3f", s.unaccounted_time_s);
+  stat.add("evaluations", s.evaluations);
+  stat.addf("last evaluation [us]", "%.1f", w.lastEvaluation_us());
+  stat.addf("max evaluation [us]", "%.1f", w.maxEvaluation_us());
+  stat.add("deadline overruns", w.deadlineOverruns());
+  const Preset active = w.activePreset();
+  const Preset configured = loop_.configuredPreset();
+  stat.add("preset", presetName(active));
+  stat.add("degraded", active < configured ? "true" : "false");
+  stat.add("degraded evaluations", w.degradedEvaluations());
+  stat.addf("accumulated loss [kg]", "%.9g", out.accumulated_loss_kg);
+  stat.addf("distance [m]", "%.6g", out.distance_m);
+  stat.addf("remaining tread depth [m]", "%.6g", out.remaining_tread_depth_m);
+
+  const std::uint64_t rejected = s.inputs.totalRejected();
+  const bool new_rejects = rejected > h.rejected;
+  if (s.backward_jumps > h.backward || s.forward_jumps > h.forward)
+    ROS_WARN_THROTTLE(5.0, "wheel %s: clock jumped (%llu backward, %llu forward so far); accumulated state kept, "
+                      "integration restarted", w.config().name.c_str(),
+                      static_cast<unsigned long long>(s.backward_jumps),
+                      static_cast<unsigned long long>(s.forward_jumps));
+  h.rejected = rejected;
+  h.backward = s.backward_jumps;
+  h.forward = s.forward_jumps;
+  h.wall_s = wall_s;
+
+  switch (out.status) {
+    case WheelStatus::kOk:
+    case WheelStatus::kLowSpeed:
+      if (new_rejects)
+        stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "invalid inputs rejected");
+      else if (active < configured)
+        stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "preset degraded by the time budget");
+      else
+        stat.summary(diagnostic_msgs::DiagnosticStatus::OK, out.status == WheelStatus::kOk ? "ok" : "low speed");
+      break;
+    case WheelStatus::kNoInput: stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "waiting for inputs"); break;
+    case WheelStatus::kStaleInput:
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "stale input: not evaluated");
+      ROS_WARN_THROTTLE(5.0, "wheel %s: inputs older than %.3f s; not evaluated, time not integrated",
+                        w.config().name.c_str(), w.estimatorParams().stale_timeout_s);
+      break;
+    case WheelStatus::kInvalidInput:
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "invalid input: not evaluated");
+      break;
+    case WheelStatus::kTimeJump: stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "time jump"); break;
+  }
+}
+
+void NodeDiagnostics::diagnoseLoop(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  const std::uint64_t overruns = loop_.cycle_overruns.load();
+  const std::string rejection = reconfigure_.lastRejection();
+  stat.add("cycles", loop_.cycles.load());
+  stat.addf("update rate [Hz]", "%.3f", 1.0 / loop_.period_s.load());
+  stat.addf("budget [us]", "%.1f", loop_.budget_us.load());
+  stat.addf("last cycle [us]", "%.1f", loop_.last_cycle_us.load());
+  stat.addf("max cycle [us]", "%.1f", loop_.max_cycle_us.load());
+  stat.add("cycle overruns", overruns);
+  stat.add("skipped publications", loop_.skipped_publications.load());
+  stat.add("rejected reconfigure", rejection.empty() ? "none" : rejection);
+  if (overruns > last_cycle_overruns_) {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "update cycle exceeded its period");
+    ROS_WARN_THROTTLE(10.0, "update loop: %llu cycle(s) longer than the period so far (max %.0f us)",
+                      static_cast<unsigned long long>(overruns), loop_.max_cycle_us.load());
+  } else if (!rejection.empty()) {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "reconfigure rejected: " + rejection);
+  } else {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "ok");
+  }
+  last_cycle_overruns_ = overruns;
+}
+
+void NodeDiagnostics::diagnosePersistence(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  const NodePersistence::Status s = persistence_.status();
+  stat.add("state_file", s.state_file.empty() ? "(persistence off)" : s.state_file);
+  stat.add("restore", s.restore);
+  stat.addf("seconds since last save", "%.1f", s.seconds_since_save);
+  if (!s.problem.empty())
+    stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, s.problem);
+  else
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, s.saving ? "ok" : "persistence off");
+}
+
+}  // namespace tread_wear

@@ -1,0 +1,34 @@
+#include "tread_wear/ros/node_help.h"
+
+#include "tread_wear/io/wheel_config.h"
+
+namespace tread_wear {
+
+std::string nodeHelp() {
+  return std::string(
+             "usage: tread_wear_node [--help] [__name:=NAME] [__ns:=NAMESPACE] [TOPIC:=NEW_TOPIC ...]\n"
+             "Live tire tread wear per wheel from the brush model (docs/node.md). Needs a ROS master; reads its\n"
+             "parameters from its private namespace (launch/tread_wear.launch loads config/vehicle_wheels.yaml).\n"
+             "\n"
+             "Parameters (~key [unit] = default: meaning):\n") +
+         nodeConfigKeysHelp() +
+         "\n"
+         "Topics (relative to the node's namespace; <name> = wheel name):\n"
+         "  in   wheels/<name>/load               tread_wear/WheelLoad         load_n [N]\n"
+         "  in   wheels/<name>/slip               tread_wear/WheelSlip         slip_angle_rad [rad], slip_ratio [-], "
+         "path_curvature_per_m [1/m]\n"
+         "  in   wheels/<name>/speed              tread_wear/WheelSpeed        speed_mps [m/s]\n"
+         "  in   wheels/<name>/tread_temperature  tread_wear/TreadTemperature  temperature_c [degC] (optional)\n"
+         "  out  wheels/<name>/wear               tread_wear/WheelWear         per wheel, every update\n"
+         "  out  wear                             tread_wear/VehicleWear       all wheels and totals, every update\n"
+         "  out  wear_markers                     visualization_msgs/MarkerArray  contact patches, marker_rate_hz\n"
+         "  out  /diagnostics                     diagnostic_msgs/DiagnosticArray  wheels, update loop, persistence\n"
+         "  out  /tf_static                       tf2_msgs/TFMessage           base_frame -> wheels with position_m\n"
+         "\n"
+         "Services:\n"
+         "  evaluate_wear   tread_wear/EvaluateWear  wear and forces of hypothetical states of one wheel (planner)\n"
+         "  reset_wheel     tread_wear/ResetWheel    tire change: zero a wheel's loss, record the new tire id\n"
+         "  ~set_parameters dynamic_reconfigure      update_rate_hz, budget_us, preset (checked as at start-up)\n";
+}
+
+}  // namespace tread_wear

@@ -1,0 +1,232 @@
+#include "tread_wear/ros/wheel_pipeline.h"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "tread_wear/io/params_io.h"
+
+namespace tread_wear {
+namespace {
+
+// One status enumeration for the live and the planner message: both carry WheelStatus's values.
+constexpr int code(WheelStatus s) { return static_cast<int>(s); }
+static_assert(tread_wear::WheelWear::STATUS_OK == code(WheelStatus::kOk) &&
+                  tread_wear::WheelWear::STATUS_LOW_SPEED == code(WheelStatus::kLowSpeed) &&
+                  tread_wear::WheelWear::STATUS_NO_INPUT == code(WheelStatus::kNoInput) &&
+                  tread_wear::WheelWear::STATUS_STALE_INPUT == code(WheelStatus::kStaleInput) &&
+                  tread_wear::WheelWear::STATUS_INVALID_INPUT == code(WheelStatus::kInvalidInput) &&
+                  tread_wear::WheelWear::STATUS_TIME_JUMP == code(WheelStatus::kTimeJump),
+              "WheelWear.STATUS_* must be WheelStatus's values");
+static_assert(tread_wear::WheelWearRate::STATUS_OK == code(WheelStatus::kOk) &&
+                  tread_wear::WheelWearRate::STATUS_LOW_SPEED == code(WheelStatus::kLowSpeed) &&
+                  tread_wear::WheelWearRate::STATUS_INVALID_INPUT == code(WheelStatus::kInvalidInput),
+              "WheelWearRate.STATUS_* must be WheelStatus's values");
+
+double steadyNow_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+void atomicMax(std::atomic<double>& a, double v) {
+  double cur = a.load(std::memory_order_relaxed);
+  while (v > cur && !a.compare_exchange_weak(cur, v, std::memory_order_relaxed)) {
+  }
+}
+
+}  // namespace
+
+OperatingPoint operatingPoint(const WheelInputs& inputs, double now_s, double stale_timeout_s) {
+  OperatingPoint op;
+  op.speed_mps = inputs.speed_mps();
+  op.slip_angle_rad = inputs.slipAngle_rad();
+  op.slip_ratio = inputs.slipRatio();
+  op.path_curvature_per_m = inputs.pathCurvature_per_m();
+  op.load_n = inputs.load_n();
+  const WheelInputs::Sample& temperature = inputs.sample(InputKind::kTemperature);
+  const bool fresh = temperature.valid && std::fabs(now_s - temperature.stamp_s) <= stale_timeout_s;
+  op.tread_temperature_c = fresh ? inputs.temperature_c() : std::numeric_limits<double>::quiet_NaN();
+  return op;
+}
+
+EvalStatus evaluateInputs(const WearModel& model, const WheelInputs& inputs, double now_s, double stale_timeout_s,
+                          WearResult* result, PatchFields* fields) {
+  if (!(inputs.load_n() > 0.0)) {
+    *result = WearResult();
+    if (fields != nullptr) fields->resize(0, 0);  // no patch; shrinking keeps the capacity (no allocation)
+    return EvalStatus::kOk;
+  }
+  return model.evaluate(operatingPoint(inputs, now_s, stale_timeout_s), result, fields);
+}
+
+std::uint8_t statusCode(WheelStatus status) { return static_cast<std::uint8_t>(status); }
+
+void reserveStrings(tread_wear::WheelWear* m) {
+  m->header.frame_id.reserve(128);
+  m->wheel.reserve(128);
+  m->tire_id.reserve(kMaxTireIdLength + 1);
+  m->preset.reserve(16);
+}
+
+WheelPipeline::WheelPipeline(const WheelConfig& config, const TireParams& tire, const NodeConfig& node)
+    : config_(config),
+      tire_(tire),
+      model_options_(node.model),
+      estimator_params_(node.estimator),
+      inputs_(node.estimator.limits),
+      model_(std::make_unique<WearModel>(tire, node.model)),
+      estimator_(node.estimator, tire.material),
+      step_inputs_(node.estimator.limits),
+      tire_id_(config.tire_id),
+      loop_inputs_(node.estimator.limits),
+      planner_model_(std::make_unique<WearModel>(tire, node.model)),
+      active_preset_(static_cast<int>(node.model.preset)) {
+  loop_tire_id_.reserve(kMaxTireIdLength);
+  loop_tire_id_ = tire_id_;
+}
+
+std::unique_ptr<WheelPipeline> WheelPipeline::load(const WheelConfig& config, const NodeConfig& node) {
+  TireParams tire;
+  try {
+    tire = loadTireParams(config.tire_params);
+  } catch (const std::exception& e) {
+    throw std::runtime_error("wheel " + config.name + ": cannot load tire parameters '" + config.tire_params +
+                             "': " + e.what());
+  }
+  return std::make_unique<WheelPipeline>(config, tire, node);
+}
+
+InputFault WheelPipeline::setLoad(double t_s, double load_n) {
+  std::lock_guard<std::mutex> lock(input_mutex_);
+  return inputs_.setLoad(t_s, load_n);
+}
+
+InputFault WheelPipeline::setSlip(double t_s, double slip_angle_rad, double slip_ratio, double path_curvature_per_m) {
+  std::lock_guard<std::mutex> lock(input_mutex_);
+  return inputs_.setSlip(t_s, slip_angle_rad, slip_ratio, path_curvature_per_m);
+}
+
+InputFault WheelPipeline::setSpeed(double t_s, double speed_mps) {
+  std::lock_guard<std::mutex> lock(input_mutex_);
+  return inputs_.setSpeed(t_s, speed_mps);
+}
+
+InputFault WheelPipeline::setTemperature(double t_s, double temperature_c) {
+  std::lock_guard<std::mutex> lock(input_mutex_);
+  return inputs_.setTemperature(t_s, temperature_c);
+}
+
+const WheelOutput& WheelPipeline::step(double now_s, Preset preset, double budget_s, double deadline_us) {
+  {
+    std::lock_guard<std::mutex> lock(input_mutex_);
+    loop_inputs_ = inputs_;
+  }
+  // Live reconfiguration: plain stores in the model. Under a budget the model picks the finest preset whose
+  // measured time fits (wear_model.h).
+  if (model_->wantedPreset() != preset) model_->setPreset(preset);
+  if (model_->timeBudget() != budget_s) model_->setTimeBudget(budget_s);
+  double eval_us;
+  {
+    std::lock_guard<std::mutex> lock(state_mutex_);
+    const double t0 = steadyNow_s();
+    loop_output_ = estimator_.step(now_s, loop_inputs_, *model_);
+    eval_us = 1e6 * (steadyNow_s() - t0);
+    step_inputs_ = loop_inputs_;
+    step_time_s_ = now_s;
+    loop_tire_id_ = tire_id_;
+    loop_unaccounted_s_ = estimator_.unaccountedTime_s();
+  }
+  if (loop_output_.evaluated) {
+    last_eval_us_.store(eval_us, std::memory_order_relaxed);
+    atomicMax(max_eval_us_, eval_us);
+    if (eval_us > deadline_us) overruns_.fetch_add(1, std::memory_order_relaxed);
+    active_preset_.store(static_cast<int>(model_->activePreset()), std::memory_order_relaxed);
+    degraded_count_.store(model_->degradedCount(), std::memory_order_relaxed);
+  }
+  return loop_output_;
+}
+
+void WheelPipeline::fillMessage(const ros::Time& stamp, Preset configured, tread_wear::WheelWear* m) const {
+  const WheelOutput& out = loop_output_;
+  m->header.stamp = stamp;
+  if (m->wheel != config_.name) {  // first message only (capacity reserved by the caller)
+    m->header.frame_id = config_.frame_id;
+    m->wheel = config_.name;
+  }
+  m->tire_id = loop_tire_id_;
+  m->wear_rate_kg_per_m = out.result.wear_rate_kg_per_m;
+  m->wear_rate_kg_per_s = out.result.wear_rate_kg_per_s;
+  m->accumulated_loss_kg = out.accumulated_loss_kg;
+  m->tread_depth_loss_m = out.tread_depth_loss_m;
+  m->remaining_tread_depth_m = out.remaining_tread_depth_m;
+  m->distance_m = out.distance_m;
+  m->stick_fraction = out.result.stick_fraction;
+  m->slide_fraction = out.result.slide_fraction;
+  m->exact_stick_fraction = out.result.exact_stick_fraction;
+  m->fx_n = out.result.fx_n;
+  m->fy_n = out.result.fy_n;
+  m->mz_nm = out.result.mz_nm;
+  m->preset = presetName(out.preset);
+  m->degraded = out.preset < configured;
+  m->status = statusCode(out.status);
+  m->unaccounted_time_s = loop_unaccounted_s_;
+}
+
+EvalStatus WheelPipeline::plan(const WheelInputs& inputs, Preset preset, WearResult* result) {
+  std::lock_guard<std::mutex> lock(planner_mutex_);
+  planner_model_->setPreset(preset);
+  // The planner's states are hypothetical and timeless: every sample, the temperature included, is current.
+  return evaluateInputs(*planner_model_, inputs, 0.0, estimator_params_.stale_timeout_s, result);
+}
+
+WheelAccumulators WheelPipeline::changeTire(const std::string& tire_id, double unix_s, std::string* old_tire_id) {
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  const WheelAccumulators old = estimator_.accumulators();
+  *old_tire_id = tire_id_;
+  estimator_.reset();
+  tire_id_ = tire_id;
+  reset_unix_s_ = unix_s;
+  return old;
+}
+
+WheelRecord WheelPipeline::record() const {
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  const WheelAccumulators a = estimator_.accumulators();
+  return {config_.name, tire_id_, a.accumulated_loss_kg, a.distance_m, reset_unix_s_};
+}
+
+void WheelPipeline::restore(const WheelRecord& record) {
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  estimator_.restore({record.accumulated_loss_kg, record.distance_m});
+  // A longer id (edited by hand) is cut to what the loop's preallocated strings hold.
+  tire_id_ = record.tire_id.substr(0, kMaxTireIdLength);
+  reset_unix_s_ = record.reset_unix_s;
+}
+
+WheelSnapshot WheelPipeline::snapshot() const {
+  WheelSnapshot s;
+  {
+    std::lock_guard<std::mutex> lock(input_mutex_);
+    s.inputs = inputs_;
+  }
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  s.step_inputs = step_inputs_;
+  s.step_time_s = step_time_s_;
+  s.output = estimator_.output();
+  s.tire_id = tire_id_;
+  s.reset_unix_s = reset_unix_s_;
+  s.backward_jumps = estimator_.backwardJumps();
+  s.forward_jumps = estimator_.forwardJumps();
+  s.stale_steps = estimator_.staleSteps();
+  s.evaluations = estimator_.evaluations();
+  s.unaccounted_time_s = estimator_.unaccountedTime_s();
+  return s;
+}
+
+WheelPipeline* findWheel(const std::vector<std::unique_ptr<WheelPipeline>>& wheels, const std::string& name) {
+  for (const auto& w : wheels)
+    if (w->config().name == name) return w.get();
+  return nullptr;
+}
+
+}  // namespace tread_wear
