@@ -1,6 +1,6 @@
 #pragma once
 /// @file brush_march.h
-/// Internal to BrushWearModel::evaluate (src/core/brush_wear_model.cpp): the per-strip work of one
+/// Internal to BrushWearModel::evaluate (src/model/brush_wear_model.cpp): the per-strip work of one
 /// implicit x step of the marcher (history terms, trial stress and stick test, slide root, update,
 /// wear law Eq 19), written once for a lane type V: `double` (one strip) or a SIMD pack of
 /// neighbouring strips (brush_march_avx2.cpp: 4 per AVX2 register, brush_march_sse2.cpp: 2 per SSE2
@@ -216,254 +216,384 @@ struct LaneTraits<double> {
   static long sumLanes(double v) { return static_cast<long>(v); }
 };
 
+// The phases of one implicit x step of a pack of strips, in the order advancePack runs them. Each is a small
+// inline template: advancePack must stay one function after inlining (the hot loop keeps its values in
+// registers, and FMA contraction in the AVX2 build sees the same expressions).
+
+/// Per-step terms of a pack (StepTerms in lanes): the same for all its strips unless some come back from
+/// substeps.
+template <class V>
+struct PackStep {
+  V g;               ///< beta h [s]
+  V m_over_g;        ///< m / g [Pa s/m]
+  V dx, dy;          ///< D = m/g + c + k g [Pa s/m]
+  V inv_dx, inv_dy;  ///< 1/D [m/(Pa s)]
+  V w;               ///< step ratio h_i / h_{i-1} [-]
+  V a1, a2;          ///< BDF2 coefficients on the states at nodes i and i - 1 [-]
+};
+
+template <class V>
+inline PackStep<V> packStep(const StepArgs& args, int j) {
+  using T = LaneTraits<V>;
+  const StepTermLanes* ps = args.per_strip;
+  const StepTerms& u = *args.uniform;
+  if (!ps) return {V(u.g), V(u.m_over_g), V(u.dx), V(u.dy), V(u.inv_dx), V(u.inv_dy), V(u.w), V(u.c.a1), V(u.c.a2)};
+  return {T::load(ps->g + j),      T::load(ps->m_over_g + j), T::load(ps->dx + j),
+          T::load(ps->dy + j),     T::load(ps->inv_dx + j),   T::load(ps->inv_dy + j),
+          T::load(ps->w + j),      T::load(ps->a1 + j),       T::load(ps->a2 + j)};
+}
+
+/// What the implicit step of a pack to node i + 1 needs: the pressure and static limit there (Eqs 8, 10-11) and the
+/// element's past (the BDF2 history of m u' = tau - k o delta - c o u, Eqs 12 and 17).
+template <class V>
+struct PackHistory {
+  using M = typename LaneTraits<V>::Mask;
+  V p;                    ///< pressure [Pa]
+  V sat_p;                ///< sat(p) p [Pa]
+  V tau_static;           ///< static limit mu_0 sat(p) p [Pa]
+  V dhx, dhy;             ///< BDF2 history of delta [m]
+  V bx, by;               ///< history terms of the implicit update [Pa]
+  V ux, uy;               ///< u at node i [m/s]
+  V z, z_p;               ///< ln|v_s| at nodes i and i - 1 where the element slid there
+  M sliding, sliding_p;   ///< slid with |v_s| > 0 at node i, at node i - 1
+};
+
+/// Loads node i's state of the pack from `from` and moves it to the previous-node slots of `to` (which may be
+/// `from`: every load comes first). Stored here, before the root iteration, so that these values need not be
+/// kept across its calls, which clobber every vector register.
+template <class V>
+inline PackHistory<V> packHistory(const StepArgs& args, int j, const PackStep<V>& st, const PathState& from,
+                                  PathState* to) {
+  using T = LaneTraits<V>;
+  const Constants& k = *args.k;
+  const StripConstants& sc = *args.strips;
+  PackHistory<V> h;
+  h.p = V(args.node.px) * T::load(sc.gy + j);
+  const V sat = select(h.p > V(k.p_0), V(args.node.sat_x) * T::load(sc.sat_y + j), V(k.sat_floor));
+  h.sat_p = sat * h.p;
+  h.tau_static = V(k.mu_0) * h.sat_p;
+  const V dlx = T::load(from.dlx + j), dly = T::load(from.dly + j);
+  h.ux = T::load(from.ux + j);
+  h.uy = T::load(from.uy + j);
+  h.z = T::load(from.z + j);
+  h.z_p = T::load(from.z_p + j);
+  h.sliding = T::load(from.sliding + j) != V(0.0);
+  h.sliding_p = T::load(from.sliding_p + j) != V(0.0);
+  h.dhx = st.a1 * dlx + st.a2 * T::load(from.dlx_p + j);
+  h.dhy = st.a1 * dly + st.a2 * T::load(from.dly_p + j);
+  const V uhx = st.a1 * h.ux + st.a2 * T::load(from.ux_p + j), uhy = st.a1 * h.uy + st.a2 * T::load(from.uy_p + j);
+  h.bx = st.m_over_g * uhx - V(k.kx) * h.dhx;
+  h.by = st.m_over_g * uhy - V(k.ky) * h.dhy;
+  T::store(to->dlx_p + j, dlx);
+  T::store(to->dly_p + j, dly);
+  T::store(to->ux_p + j, h.ux);
+  T::store(to->uy_p + j, h.uy);
+  T::store(to->sliding_p + j, select(h.sliding, V(1.0), V(0.0)));
+  T::store(to->z_p + j, h.z);
+  return h;
+}
+
+/// The pack's solution at node i + 1 (updated by each turn-slip pass).
+template <class V>
+struct PackNode {
+  using M = typename LaneTraits<V>::Mask;
+  V tx, ty;      ///< shear stress tau [Pa]
+  V vsx, vsy;    ///< sliding velocity v_s [m/s]
+  V s, z;        ///< |v_s| [m/s] and ln|v_s| (0 when not sliding)
+  V mup, s_dmup;  ///< mu p and |v_s| d(mu p)/d|v_s| at the last slide root [Pa]
+  V ux, uy;      ///< u [m/s]
+  V dlx, dly;    ///< delta [m]; before the first pass the predictor for the Omega delta coupling
+  M stuck;       ///< exact stick
+};
+
+/// The stress needed to stick at node i + 1 (trial stress of the return mapping) and its squares [Pa, Pa^2].
+template <class V>
+struct TrialStress {
+  V tx, ty;
+  V t2x, t2y, t2;
+};
+
+/// Trial stress D o v_r - b with v_r at the tip's position from the deflection n.dlx, n.dly (Eq 14 generalised).
+template <class V>
+inline TrialStress<V> trialStress(const Constants& k, const Node& node, const PackStep<V>& st,
+                                  const PackHistory<V>& h, const V& y, const PackNode<V>& n) {
+  const V rx = V(k.vrx0) + V(k.omega) * (y + n.dly), ry = V(k.vry0) - V(k.omega) * (V(node.x) + n.dlx);
+  TrialStress<V> t;
+  t.tx = st.dx * rx - h.bx;
+  t.ty = st.dy * ry - h.by;
+  t.t2x = t.tx * t.tx;
+  t.t2y = t.ty * t.ty;
+  t.t2 = t.t2x + t.t2y;
+  return t;
+}
+
+/// mu p and |v_s| d(mu p)/d|v_s| [Pa] at z = ln|v_s| (Eq 10 times sat(p) p, sat_p = sat(p) p).
+template <class V>
+inline void frictionStress(const Constants& k, const V& sat_p, const V& z, V* mup, V* s_dmup) {
+  const V l = z - V(k.ln_vm);
+  const V e = V(k.dmu) * vexp(V(-k.savkoor_c) * l * l);
+  *mup = sat_p * (V(k.mu_0) + e);
+  *s_dmup = sat_p * e * (V(-2.0 * k.savkoor_c) * l);
+}
+
+/// Bracket [lo, hi] of the slide root in z = ln|v_s|: lo = ln of the creep floor; the upper end ln(|t| / min D)
+/// is computed only where bisection needs it (infinite until then).
+template <class V>
+struct RootBracket {
+  using M = typename LaneTraits<V>::Mask;
+  V lo, hi;
+
+  void needUpper(const M& lanes, const TrialStress<V>& t, const PackStep<V>& st) {
+    const M need = lanes & (hi == V(__builtin_inf()));
+    if (any(need)) hi = select(need, vlog(select(need, vsqrt(t.t2) / vmin(st.dx, st.dy), V(1.0))), hi);
+  }
+};
+
+/// Slide root of a pack: |v_s|, ln|v_s|, mu p and |v_s| d(mu p)/d|v_s| there, iterations spent.
+template <class V>
+struct SlideRoot {
+  V s, z, mup, s_dmup;
+  V iterations;
+};
+
+/// Start of the root iteration in the lanes `solving`: the previous pass at this node (n), else ln|v_s|
+/// extrapolated along the element path; on the rising branch of mu the closed-form creep root; inside the bracket.
+template <class V>
+inline V rootStart(const Constants& k, const PackStep<V>& st, const PackHistory<V>& h, const TrialStress<V>& t,
+                   const PackNode<V>& n, const typename LaneTraits<V>::Mask& solving, RootBracket<V>* bracket) {
+  using M = typename LaneTraits<V>::Mask;
+  const M have_guess = (n.s > V(0.0)) | h.sliding;
+  V zi = select(n.s > V(0.0), n.z, select(h.sliding_p, h.z + st.w * (h.z - h.z_p), h.z));
+  const M rising_start = solving & ((!have_guess) | (zi < V(k.ln_vm)));
+  if (any(rising_start)) {
+    // Closed-form creep root mu(s) p = |t| with D s neglected, on the rising branch (s < v_m): there it
+    // is a better start than the warm start; beyond the peak of mu the warm start is.
+    const V r = vsqrt(t.t2);
+    const V e = (r / h.sat_p - V(k.mu_0)) / V(k.dmu);
+    const M closed = rising_start & (e > V(0.0)) & (e < V(1.0));
+    if (any(closed)) zi = select(closed, V(k.ln_vm) - vsqrt(-vlog(select(closed, e, V(1.0))) / V(k.savkoor_c)), zi);
+    // Viscous estimate: D s carries what friction at its floor mu_0 p does not.
+    const M viscous = rising_start & !closed & !have_guess;
+    if (any(viscous)) {
+      const V s_visc = vsqrt(t.t2x / (st.dx * st.dx) + t.t2y / (st.dy * st.dy));
+      const V estimate = vmax(s_visc * (V(1.0) - h.sat_p * V(k.mu_0) / r), V(1e-300));
+      zi = select(viscous, vlog(select(viscous, estimate, V(1.0))), zi);
+    }
+  }
+  const M outside = solving & !((zi > bracket->lo) & (zi < bracket->hi));
+  if (any(outside)) {
+    bracket->needUpper(outside, t, st);
+    zi = select(outside, V(0.5) * (bracket->lo + bracket->hi), zi);
+  }
+  return select(solving, zi, V(0.0));  // lanes not solving evaluate a harmless residual
+}
+
+/// Slide root in the lanes `solving` (the return mapping's slide branch, Eqs 10, 16-18): F(z) = sum_i t_i^2 /
+/// (D_i s + mu(s) p)^2 - 1 = 0 in z = ln s, s = |v_s|, monotone decreasing while D_i + p dmu/ds > 0. Newton in z
+/// on ln(F + 1), safeguarded by bisection on the bracket, at most max_iterations per lane; the slide roots of a
+/// pack iterate until all its lanes are done.
+template <class V>
+inline SlideRoot<V> slideRoot(const Constants& k, const PackStep<V>& st, const PackHistory<V>& h,
+                              const TrialStress<V>& t, typename LaneTraits<V>::Mask solving, V zi,
+                              RootBracket<V> bracket) {
+  using M = typename LaneTraits<V>::Mask;
+  SlideRoot<V> root{V(0.0), V(0.0), V(0.0), V(0.0), V(0.0)};
+  while (any(solving)) {
+    // Residual F and dF/dz at zi.
+    const V rs = vexp(zi);
+    V rmup, rs_dmup;
+    frictionStress(k, h.sat_p, zi, &rmup, &rs_dmup);
+    const V gx = st.dx * rs + rmup, gy = st.dy * rs + rmup;
+    const V inv = V(1.0) / (gx * gy);  // one division for both reciprocals
+    const V igx = gy * inv, igy = gx * inv;
+    const V fx = t.t2x * igx * igx, fy = t.t2y * igy * igy;
+    const V dfdz = V(-2.0) * (fx * (st.dx * rs + rs_dmup) * igx + fy * (st.dy * rs + rs_dmup) * igy);
+    const V f = fx + fy - V(1.0);
+
+    // Safeguarded Newton step.
+    root.iterations = select(solving, root.iterations + V(1.0), root.iterations);
+    const M above = f > V(0.0);
+    bracket.lo = select(solving & above, zi, bracket.lo);
+    bracket.hi = select(solving & !above, zi, bracket.hi);
+    // Far from the root F + 1 behaves like a power of s (like s^-2 where D s dominates), so Newton
+    // on ln(F + 1) is nearly linear in z there; near the root both forms agree to O(F^2).
+    const M descending = dfdz < V(0.0);
+    const M far = solving & descending & !(vabs(f) < V(0.25));
+    V numerator = -f;
+    if (any(far)) numerator = select(far, -(V(1.0) + f) * vlog1p(select(far, f, V(0.0))), numerator);
+    const V step = select(descending, numerator / dfdz, V(0.0));
+    // Quadratic convergence: the remaining error is O(step^2); correct s and mu p to first order.
+    const M converged = solving & descending & (vabs(step) < V(k.tol));
+    root.z = select(converged, zi + step, root.z);
+    root.s = select(converged, rs * (V(1.0) + step), root.s);
+    root.mup = select(converged, rmup + rs_dmup * step, root.mup);
+    root.s_dmup = select(converged, rs_dmup, root.s_dmup);
+    solving = solving & !converged;
+    V z_new = zi + step;
+    const M bisect = solving & ((!descending) | (!((z_new > bracket.lo) & (z_new < bracket.hi))));
+    if (any(bisect)) {
+      bracket.needUpper(bisect, t, st);
+      z_new = select(bisect, V(0.5) * (bracket.lo + bracket.hi), z_new);
+    }
+    const M exhausted = solving & ((bracket.hi - bracket.lo < V(k.tol)) | (root.iterations == V(k.max_iterations)));
+    if (any(exhausted)) {
+      const V ze = select(exhausted, z_new, V(0.0));
+      V mup_e, s_dmup_e;
+      frictionStress(k, h.sat_p, ze, &mup_e, &s_dmup_e);
+      root.z = select(exhausted, ze, root.z);
+      root.s = select(exhausted, vexp(ze), root.s);
+      root.mup = select(exhausted, mup_e, root.mup);
+      root.s_dmup = select(exhausted, s_dmup_e, root.s_dmup);
+      solving = solving & !exhausted;
+    }
+    zi = select(solving, z_new, zi);
+  }
+  return root;
+}
+
+/// Node solution of the lanes `slid` (not stuck): slide at the root, or, where even the floor speed's friction
+/// holds the trial stress (root.s = 0), creep at the static limit along the trial direction. Stuck lanes take the
+/// trial stress. Then u and delta at the node from the implicit update.
+template <class V>
+inline void nodeSolution(const PackStep<V>& st, const PackHistory<V>& h, const TrialStress<V>& t,
+                         const SlideRoot<V>& root, const typename LaneTraits<V>::Mask& slid, PackNode<V>* n) {
+  using M = typename LaneTraits<V>::Mask;
+  const M sliding = slid & (root.s > V(0.0));
+  const M creeping = slid & !(root.s > V(0.0));
+  const V gx = st.dx * root.s + root.mup, gy = st.dy * root.s + root.mup;
+  const V inv = V(1.0) / select(sliding, gx * gy, V(1.0));
+  const V igx = gy * inv, igy = gx * inv;
+  n->tx = select(n->stuck, t.tx, root.mup * t.tx * igx);
+  n->ty = select(n->stuck, t.ty, root.mup * t.ty * igy);
+  if (any(creeping)) {
+    const V static_over_tt = h.tau_static / select(creeping, vsqrt(t.t2), V(1.0));
+    n->tx = select(creeping, static_over_tt * t.tx, n->tx);
+    n->ty = select(creeping, static_over_tt * t.ty, n->ty);
+  }
+  n->vsx = select(sliding, -t.tx * root.s * igx, V(0.0));
+  n->vsy = select(sliding, -t.ty * root.s * igy, V(0.0));
+  n->s = select(n->stuck, V(0.0), root.s);
+  n->z = select(sliding, root.z, V(0.0));
+  n->mup = select(sliding, root.mup, n->mup);
+  n->s_dmup = select(sliding, root.s_dmup, n->s_dmup);
+  n->ux = (n->tx + h.bx) * st.inv_dx;
+  n->uy = (n->ty + h.by) * st.inv_dy;
+  n->dlx = h.dhx + st.g * n->ux;
+  n->dly = h.dhy + st.g * n->uy;
+}
+
+/// Eq 19 per time and area [kg/(s m^2)]; at the slide root |tau| = mu p exactly, and ln|v_s| = z is known. Below
+/// z_wear_cut the sliding term is under 1e-9 w4 (deep creep) and is skipped.
+template <class V>
+inline V wearPerTime(const Constants& k, const PackNode<V>& n) {
+  using M = typename LaneTraits<V>::Mask;
+  V wt(k.w4);
+  const M wearing = (n.s > V(0.0)) & (n.z > V(k.z_wear_cut));
+  if (any(wearing)) {
+    const V ln_mup = vlog(select(wearing, n.mup, V(1.0)));
+    const V sliding_wear = vexp(V(k.ln_w3_over_mpa_w1) + V(k.w1) * ln_mup + V(k.w2) * n.z);
+    wt = select(wearing, V(k.w4) + sliding_wear, wt);
+  }
+  return wt;
+}
+
+/// NodeLanes::refine_rate [1/s] of the real lanes: the element's own rate max(sqrt(k/m), -c_eff/m) where it slides
+/// faster than v_m with an effective damping c_eff = c + d(mu p)/d|v_s| along the slip below damping_ratio times
+/// the critical 2 sqrt(m k); else 0.
+template <class V>
+inline V refineRate(const Constants& k, const typename LaneTraits<V>::Mask& real, const PackNode<V>& n) {
+  using M = typename LaneTraits<V>::Mask;
+  V refine_rate(0.0);
+  const M fast = real & (n.s > V(k.v_m));
+  if (any(fast)) {
+    const V s_fast = select(fast, n.s, V(1.0));
+    const V inv_s2 = V(1.0) / (s_fast * s_fast);
+    const V nx2 = n.vsx * n.vsx * inv_s2, ny2 = V(1.0) - nx2;  // squared slip direction
+    const V k_dir = V(k.kx) * nx2 + V(k.ky) * ny2;
+    const V c_eff = V(k.cx) * nx2 + V(k.cy) * ny2 + n.s_dmup * s_fast * inv_s2;
+    const V c_crit = V(2.0) * vsqrt(V(k.m) * k_dir);
+    const M weakly_damped = fast & !(c_eff >= V(k.damping_ratio) * c_crit);
+    if (any(weakly_damped)) {
+      const V inv_m(1.0 / k.m);
+      refine_rate = select(weakly_damped, vmax(vsqrt(k_dir * inv_m), -c_eff * inv_m), refine_rate);
+    }
+  }
+  return refine_rate;
+}
+
+/// Adds the real lanes' node solution times dA to the sums of Eq 20 (lanes past the last strip add nothing).
+template <class V>
+inline void addToSums(const StepArgs& args, int j, const typename LaneTraits<V>::Mask& real, const PackNode<V>& n,
+                      const V& wt) {
+  using T = LaneTraits<V>;
+  const Constants& k = *args.k;
+  PatchSums& sum = *args.sums;
+  const V area = V(args.node_area) * T::load(args.strips->weight + j);  // dA [m^2]
+  const V zero(0.0);
+  const V force_x = select(real, area * n.tx, zero), force_y = select(real, area * n.ty, zero);
+  T::store(sum.fx, T::load(sum.fx) + force_x);
+  T::store(sum.fy, T::load(sum.fy) + force_y);
+  T::store(sum.mz, T::load(sum.mz) + (V(args.node.x) * force_y - T::load(args.strips->y_mz + j) * force_x));
+  T::store(sum.wear, T::load(sum.wear) + select(real, area * wt, zero));
+  T::store(sum.stick, T::load(sum.stick) + select(real & (n.s <= V(k.v_m)), area, zero));
+  T::store(sum.exact, T::load(sum.exact) + select(real & n.stuck, area, zero));
+}
+
 /// One x step of the W strips [j, j + W) of which the first `valid` are real (the pack of a lane type V),
-/// from the path state `from` to `to`. All loads precede all stores, so `to` may be `from`.
+/// from the path state `from` to `to` (may be `from`): the implicit BDF2 step of Eqs 12 and 17 with the return
+/// mapping of Eqs 10, 16-18 (stick if the trial stress is inside the static disc, else slide at the root), repeated
+/// for the Omega delta coupling of v_r; then the wear law (Eq 19) and the node's terms of Eq 20.
 template <class V>
 inline void advancePack(const StepArgs& args, int j, int valid, const PathState& from, PathState* to, NodeLanes* out,
                         RootCounts* counts) {
   using T = LaneTraits<V>;
   using M = typename T::Mask;
   const Constants& k = *args.k;
-  const StripConstants& sc = *args.strips;
-  const Node& node = args.node;
-  const double kInf = __builtin_inf();
-  // Per-step terms: the same for all strips unless some come back from substeps.
-  const StepTermLanes* ps = args.per_strip;
-  const StepTerms& u = *args.uniform;
-  const V g = ps ? T::load(ps->g + j) : V(u.g);
-  const V m_over_g = ps ? T::load(ps->m_over_g + j) : V(u.m_over_g);
-  const V dx = ps ? T::load(ps->dx + j) : V(u.dx);
-  const V dy = ps ? T::load(ps->dy + j) : V(u.dy);
-  const V inv_dx = ps ? T::load(ps->inv_dx + j) : V(u.inv_dx);
-  const V inv_dy = ps ? T::load(ps->inv_dy + j) : V(u.inv_dy);
-  const V w = ps ? T::load(ps->w + j) : V(u.w);
-  const V a1 = ps ? T::load(ps->a1 + j) : V(u.c.a1);
-  const V a2 = ps ? T::load(ps->a2 + j) : V(u.c.a2);
+  const PackStep<V> st = packStep<V>(args, j);
   const M real = T::firstLanes(valid);
-
-  // History terms, pressure and the static limit.
-  const V y = T::load(sc.y + j);
-  const V p = V(node.px) * T::load(sc.gy + j);
-  const V sat = select(p > V(k.p_0), V(node.sat_x) * T::load(sc.sat_y + j), V(k.sat_floor));
-  const V sat_p = sat * p;  // sat(p) p [Pa]
-  const V tau_static = V(k.mu_0) * sat_p;
-  const V e_dlx = T::load(from.dlx + j), e_dly = T::load(from.dly + j);
-  const V e_ux = T::load(from.ux + j), e_uy = T::load(from.uy + j);
-  const V e_z = T::load(from.z + j), e_z_p = T::load(from.z_p + j);
-  const M e_sliding = T::load(from.sliding + j) != V(0.0), e_sliding_p = T::load(from.sliding_p + j) != V(0.0);
-  const V dhx = a1 * e_dlx + a2 * T::load(from.dlx_p + j);  // BDF2 history of delta [m]
-  const V dhy = a1 * e_dly + a2 * T::load(from.dly_p + j);
-  const V uhx = a1 * e_ux + a2 * T::load(from.ux_p + j), uhy = a1 * e_uy + a2 * T::load(from.uy_p + j);
-  const V bx = m_over_g * uhx - V(k.kx) * dhx;  // history terms of the implicit update [Pa]
-  const V by = m_over_g * uhy - V(k.ky) * dhy;
-  // The current node becomes the previous one; stored now (all loads of `from` are done) so that these
-  // values need not be kept across the root iteration's calls, which clobber every vector register.
-  T::store(to->dlx_p + j, e_dlx);
-  T::store(to->dly_p + j, e_dly);
-  T::store(to->ux_p + j, e_ux);
-  T::store(to->uy_p + j, e_uy);
-  T::store(to->sliding_p + j, select(e_sliding, V(1.0), V(0.0)));
-  T::store(to->z_p + j, e_z);
-  V ndx = dhx + g * e_ux;  // deflection at the new node: predictor for the Omega delta coupling [m]
-  V ndy = dhy + g * e_uy;
-  V tx(0.0), ty(0.0), vsx(0.0), vsy(0.0), s(0.0), mup(0.0), s_dmup(0.0), z(0.0), nux(0.0), nuy(0.0);
-  M stuck = T::none();
+  const V y = T::load(args.strips->y + j);
+  const PackHistory<V> h = packHistory(args, j, st, from, to);
+  PackNode<V> n{V(0.0), V(0.0), V(0.0), V(0.0), V(0.0), V(0.0), V(0.0), V(0.0), V(0.0), V(0.0),
+                h.dhx + st.g * h.ux, h.dhy + st.g * h.uy, T::none()};
 
   for (int pass = 0; pass < k.passes; ++pass) {
-    // Trial stress (the stress needed to stick) and the stick test.
-    const V rx = V(k.vrx0) + V(k.omega) * (y + ndy), ry = V(k.vry0) - V(k.omega) * (V(node.x) + ndx);
-    const V ttx = dx * rx - bx, tty = dy * ry - by;
-    const V t2x = ttx * ttx, t2y = tty * tty, t2 = t2x + t2y;
-    stuck = t2 <= tau_static * tau_static;
-
-    // Slide root: F(z) = sum_i t_i^2 / (D_i s + mu(s) p)^2 - 1 = 0 in z = ln s, s = |v_s|, monotone
-    // decreasing while D_i + p dmu/ds > 0. Newton in z on ln(F + 1), safeguarded by bisection on the
-    // bracket [z_floor, ln(|t| / min D)], whose upper end is computed only when bisection needs it.
+    const TrialStress<V> t = trialStress(k, args.node, st, h, y, n);
+    n.stuck = t.t2 <= h.tau_static * h.tau_static;
     // Creep test at the floor speed: there D s is negligible against mu p and mu = mu(floor).
-    const V mup_floor = sat_p * V(k.savkoor_floor);
-    const M creep = t2 <= mup_floor * mup_floor;
-    M solving = real & !stuck & !creep;
-    V root_s(0.0), root_z(0.0), root_mup(0.0), root_s_dmup(0.0), iterations(0.0);
-    V z_lo(k.z_floor), z_hi(kInf);
-    auto upperEnd = [&](const M& lanes) {
-      const M need = lanes & (z_hi == V(kInf));
-      if (any(need)) z_hi = select(need, vlog(select(need, vsqrt(t2) / vmin(dx, dy), V(1.0))), z_hi);
-    };
-    // Warm start: the previous pass at this node, else ln|v_s| extrapolated along the element path.
-    const M have_guess = (s > V(0.0)) | e_sliding;
-    V zi = select(s > V(0.0), z, select(e_sliding_p, e_z + w * (e_z - e_z_p), e_z));
-    const M rising_start = solving & ((!have_guess) | (zi < V(k.ln_vm)));
-    if (any(rising_start)) {
-      // Closed-form creep root mu(s) p = |t| with D s neglected, on the rising branch (s < v_m): there it
-      // is a better start than the warm start; beyond the peak of mu the warm start is.
-      const V r = vsqrt(t2);
-      const V e = (r / sat_p - V(k.mu_0)) / V(k.dmu);
-      const M closed = rising_start & (e > V(0.0)) & (e < V(1.0));
-      if (any(closed)) zi = select(closed, V(k.ln_vm) - vsqrt(-vlog(select(closed, e, V(1.0))) / V(k.savkoor_c)), zi);
-      // Viscous estimate: D s carries what friction at its floor mu_0 p does not.
-      const M viscous = rising_start & !closed & !have_guess;
-      if (any(viscous)) {
-        const V s_visc = vsqrt(t2x / (dx * dx) + t2y / (dy * dy));
-        const V estimate = vmax(s_visc * (V(1.0) - sat_p * V(k.mu_0) / r), V(1e-300));
-        zi = select(viscous, vlog(select(viscous, estimate, V(1.0))), zi);
-      }
-    }
-    {
-      const M outside = solving & !((zi > z_lo) & (zi < z_hi));
-      if (any(outside)) {
-        upperEnd(outside);
-        zi = select(outside, V(0.5) * (z_lo + z_hi), zi);
-      }
-    }
-    zi = select(solving, zi, V(0.0));  // lanes not solving evaluate a harmless residual
-
-    // mu p and |v_s| d(mu p)/d|v_s| at z = ln|v_s| (Eq 10 times sat(p) p).
-    auto friction = [&](const V& zv, V* mup_at, V* s_dmup_at) {
-      const V l = zv - V(k.ln_vm);
-      const V e = V(k.dmu) * vexp(V(-k.savkoor_c) * l * l);
-      *mup_at = sat_p * (V(k.mu_0) + e);
-      *s_dmup_at = sat_p * e * (V(-2.0 * k.savkoor_c) * l);
-    };
-    while (any(solving)) {
-      // Residual F and dF/dz at zi.
-      const V rs = vexp(zi);
-      V rmup, rs_dmup;
-      friction(zi, &rmup, &rs_dmup);
-      const V gx = dx * rs + rmup, gy = dy * rs + rmup;
-      const V inv = V(1.0) / (gx * gy);  // one division for both reciprocals
-      const V igx = gy * inv, igy = gx * inv;
-      const V fx = t2x * igx * igx, fy = t2y * igy * igy;
-      const V dfdz = V(-2.0) * (fx * (dx * rs + rs_dmup) * igx + fy * (dy * rs + rs_dmup) * igy);
-      const V f = fx + fy - V(1.0);
-
-      // Safeguarded Newton step.
-      iterations = select(solving, iterations + V(1.0), iterations);
-      const M above = f > V(0.0);
-      z_lo = select(solving & above, zi, z_lo);
-      z_hi = select(solving & !above, zi, z_hi);
-      // Far from the root F + 1 behaves like a power of s (like s^-2 where D s dominates), so Newton
-      // on ln(F + 1) is nearly linear in z there; near the root both forms agree to O(F^2).
-      const M descending = dfdz < V(0.0);
-      const M far = solving & descending & !(vabs(f) < V(0.25));
-      V numerator = -f;
-      if (any(far)) numerator = select(far, -(V(1.0) + f) * vlog1p(select(far, f, V(0.0))), numerator);
-      const V step = select(descending, numerator / dfdz, V(0.0));
-      // Quadratic convergence: the remaining error is O(step^2); correct s and mu p to first order.
-      const M converged = solving & descending & (vabs(step) < V(k.tol));
-      root_z = select(converged, zi + step, root_z);
-      root_s = select(converged, rs * (V(1.0) + step), root_s);
-      root_mup = select(converged, rmup + rs_dmup * step, root_mup);
-      root_s_dmup = select(converged, rs_dmup, root_s_dmup);
-      solving = solving & !converged;
-      V z_new = zi + step;
-      const M bisect = solving & ((!descending) | (!((z_new > z_lo) & (z_new < z_hi))));
-      if (any(bisect)) {
-        upperEnd(bisect);
-        z_new = select(bisect, V(0.5) * (z_lo + z_hi), z_new);
-      }
-      const M exhausted = solving & ((z_hi - z_lo < V(k.tol)) | (iterations == V(k.max_iterations)));
-      if (any(exhausted)) {
-        const V ze = select(exhausted, z_new, V(0.0));
-        V mup_e, s_dmup_e;
-        friction(ze, &mup_e, &s_dmup_e);
-        root_z = select(exhausted, ze, root_z);
-        root_s = select(exhausted, vexp(ze), root_s);
-        root_mup = select(exhausted, mup_e, root_mup);
-        root_s_dmup = select(exhausted, s_dmup_e, root_s_dmup);
-        solving = solving & !exhausted;
-      }
-      zi = select(solving, z_new, zi);
-    }
-
-    // Node solution: stick, slide at the root, or creep at the static limit along the trial direction.
-    const M slid = real & !stuck;
-    const int pack_max_iterations = T::maxLane(select(slid, iterations, V(0.0)));
+    const V mup_floor = h.sat_p * V(k.savkoor_floor);
+    const M creep = t.t2 <= mup_floor * mup_floor;
+    const M solving = real & !n.stuck & !creep;
+    RootBracket<V> bracket{V(k.z_floor), V(__builtin_inf())};
+    const V z_start = rootStart(k, st, h, t, n, solving, &bracket);
+    const SlideRoot<V> root = slideRoot(k, st, h, t, solving, z_start, bracket);
+    const M slid = real & !n.stuck;
+    const int pack_max_iterations = T::maxLane(select(slid, root.iterations, V(0.0)));
     if (pack_max_iterations > counts->max_iterations) counts->max_iterations = pack_max_iterations;
-    counts->total += T::sumLanes(select(slid, iterations, V(0.0)));
-    const M sliding = slid & (root_s > V(0.0));
-    const M creeping = slid & !(root_s > V(0.0));
-    {
-      const V gx = dx * root_s + root_mup, gy = dy * root_s + root_mup;
-      const V inv = V(1.0) / select(sliding, gx * gy, V(1.0));
-      const V igx = gy * inv, igy = gx * inv;
-      tx = select(stuck, ttx, root_mup * ttx * igx);
-      ty = select(stuck, tty, root_mup * tty * igy);
-      if (any(creeping)) {
-        const V static_over_tt = tau_static / select(creeping, vsqrt(t2), V(1.0));
-        tx = select(creeping, static_over_tt * ttx, tx);
-        ty = select(creeping, static_over_tt * tty, ty);
-      }
-      vsx = select(sliding, -ttx * root_s * igx, V(0.0));
-      vsy = select(sliding, -tty * root_s * igy, V(0.0));
-    }
-    s = select(stuck, V(0.0), root_s);
-    z = select(sliding, root_z, V(0.0));
-    mup = select(sliding, root_mup, mup);
-    s_dmup = select(sliding, root_s_dmup, s_dmup);
-    nux = (tx + bx) * inv_dx;
-    nuy = (ty + by) * inv_dy;
-    ndx = dhx + g * nux;
-    ndy = dhy + g * nuy;
+    counts->total += T::sumLanes(select(slid, root.iterations, V(0.0)));
+    nodeSolution(st, h, t, root, slid, &n);
   }
 
-  // Element state at the new node.
-  T::store(to->dlx + j, ndx);
-  T::store(to->dly + j, ndy);
-  T::store(to->ux + j, nux);
-  T::store(to->uy + j, nuy);
-  T::store(to->sliding + j, select(s > V(0.0), V(1.0), V(0.0)));
-  T::store(to->z + j, z);
-
-  // Eq 19 per time; at the slide root |tau| = mu p exactly, and ln|v_s| = z is known. Below z_wear_cut
-  // the sliding term is under 1e-9 w4 (deep creep) and is skipped.
-  V wt(k.w4);
-  const M wearing = (s > V(0.0)) & (z > V(k.z_wear_cut));
-  if (any(wearing)) {
-    const V sliding_wear = vexp(V(k.ln_w3_over_mpa_w1) + V(k.w1) * vlog(select(wearing, mup, V(1.0))) + V(k.w2) * z);
-    wt = select(wearing, V(k.w4) + sliding_wear, wt);
-  }
-  V refine_rate(0.0);
-  if (k.refine) {
-    const M fast = real & (s > V(k.v_m));
-    if (any(fast)) {
-      const V s_fast = select(fast, s, V(1.0));
-      const V inv_s2 = V(1.0) / (s_fast * s_fast);
-      const V nx2 = vsx * vsx * inv_s2, ny2 = V(1.0) - nx2;  // squared slip direction
-      const V k_dir = V(k.kx) * nx2 + V(k.ky) * ny2;
-      const V c_eff = V(k.cx) * nx2 + V(k.cy) * ny2 + s_dmup * s_fast * inv_s2;
-      const V c_crit = V(2.0) * vsqrt(V(k.m) * k_dir);
-      const M weakly_damped = fast & !(c_eff >= V(k.damping_ratio) * c_crit);
-      if (any(weakly_damped)) {
-        const V inv_m(1.0 / k.m);
-        refine_rate = select(weakly_damped, vmax(vsqrt(k_dir * inv_m), -c_eff * inv_m), refine_rate);
-      }
-    }
-  }
-  if (args.sums) {
-    PatchSums& sum = *args.sums;
-    const V area = V(args.node_area) * T::load(sc.weight + j);  // dA [m^2]
-    const V zero(0.0);
-    // Lanes past the last strip add nothing.
-    const V force_x = select(real, area * tx, zero), force_y = select(real, area * ty, zero);
-    T::store(sum.fx, T::load(sum.fx) + force_x);
-    T::store(sum.fy, T::load(sum.fy) + force_y);
-    T::store(sum.mz, T::load(sum.mz) + (V(node.x) * force_y - T::load(sc.y_mz + j) * force_x));
-    T::store(sum.wear, T::load(sum.wear) + select(real, area * wt, zero));
-    T::store(sum.stick, T::load(sum.stick) + select(real & (s <= V(k.v_m)), area, zero));
-    T::store(sum.exact, T::load(sum.exact) + select(real & stuck, area, zero));
-  }
+  T::store(to->dlx + j, n.dlx);
+  T::store(to->dly + j, n.dly);
+  T::store(to->ux + j, n.ux);
+  T::store(to->uy + j, n.uy);
+  T::store(to->sliding + j, select(n.s > V(0.0), V(1.0), V(0.0)));
+  T::store(to->z + j, n.z);
+  const V wt = wearPerTime(k, n);
+  const V refine_rate = k.refine ? refineRate(k, real, n) : V(0.0);
+  if (args.sums) addToSums(args, j, real, n, wt);
   T::store(out->refine_rate + j, refine_rate);
-  T::store(out->p + j, p);
-  T::store(out->tx + j, tx);
-  T::store(out->ty + j, ty);
-  T::store(out->vsx + j, vsx);
-  T::store(out->vsy + j, vsy);
-  T::store(out->s + j, s);
-  T::store(out->z + j, z);
-  T::store(out->mup + j, mup);
-  T::store(out->s_dmup + j, s_dmup);
+  T::store(out->p + j, h.p);
+  T::store(out->tx + j, n.tx);
+  T::store(out->ty + j, n.ty);
+  T::store(out->vsx + j, n.vsx);
+  T::store(out->vsy + j, n.vsy);
+  T::store(out->s + j, n.s);
+  T::store(out->z + j, n.z);
+  T::store(out->mup + j, n.mup);
+  T::store(out->s_dmup + j, n.s_dmup);
   T::store(out->wt + j, wt);
-  T::store(out->stuck + j, select(stuck, V(1.0), V(0.0)));
+  T::store(out->stuck + j, select(n.stuck, V(1.0), V(0.0)));
 }
 
 /// One x step of strips [first, first + count) in packs of the lane type V (an AdvanceFunction's body).

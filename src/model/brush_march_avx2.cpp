@@ -1,5 +1,5 @@
 // The marcher's x step on packs of four strips (AVX2 + FMA). This file alone is compiled with
-// -mavx2 -mfma (cmake/core.cmake) and is only called where the CPU has both (fastestAdvance()).
+// -mavx2 -mfma (cmake/modules.cmake) and is only called where the CPU has both (fastestAdvance()).
 // Everything here has internal linkage and uses no inline function of the standard library, so no
 // AVX2 code can stand in for a baseline copy of a shared inline function at link time.
 #include <immintrin.h>
