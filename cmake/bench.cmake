@@ -1,12 +1,14 @@
-# Benchmarks and accuracy tables of the wear-model presets (docs/performance.md); only with Google Benchmark.
+# Benchmarks and accuracy tables of the wear-model presets (docs/performance.md); only with Google Benchmark, a test
+# dependency, hence with the tests (CMakeLists.txt includes this file under CATKIN_ENABLE_TESTING). Both read nothing
+# from the source tree and are installed with the tools: `rosrun tread_wear tread_wear_bench` measures the cost of a
+# wheel evaluation on the computer that runs the node.
 find_package(benchmark QUIET)
 if(benchmark_FOUND)
-  add_executable(tread_wear_bench ${PROJECT_SOURCE_DIR}/bench/wear_model_bench.cpp)
-  target_link_libraries(tread_wear_bench tread_wear_cli benchmark::benchmark)
-  target_compile_definitions(tread_wear_bench PRIVATE TREAD_WEAR_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
-  add_executable(tread_wear_accuracy ${PROJECT_SOURCE_DIR}/bench/accuracy_main.cpp)
-  target_link_libraries(tread_wear_accuracy tread_wear_cli)
-  target_compile_definitions(tread_wear_accuracy PRIVATE TREAD_WEAR_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+  add_executable(${PROJECT_NAME}_bench bench/wear_model_bench.cpp)
+  target_link_libraries(${PROJECT_NAME}_bench ${PROJECT_NAME}_cli benchmark::benchmark)
+  add_executable(${PROJECT_NAME}_accuracy bench/accuracy_main.cpp)
+  target_link_libraries(${PROJECT_NAME}_accuracy ${PROJECT_NAME}_cli)
+  install(TARGETS ${PROJECT_NAME}_accuracy ${PROJECT_NAME}_bench RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 else()
-  message(STATUS "Google Benchmark not found: tread_wear_bench and tread_wear_accuracy are not built")
+  message(STATUS "Google Benchmark not found: ${PROJECT_NAME}_bench and ${PROJECT_NAME}_accuracy are not built")
 endif()

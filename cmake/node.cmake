@@ -1,10 +1,18 @@
 # ROS layer: tread_wear_ros (node parts over model + estimation + io), tread_wear_ros_bag (rosbag records check,
 # drive and diagnosis bags) and the thin tread_wear_node main.
+# From here on, every target of this directory compiles against the package's headers (also on each module's
+# interface) and the ROS packages' headers (catkin_INCLUDE_DIRS; the ROS-free modules above do not). The headers
+# generated from msg/, srv/ and cfg/ come through catkin: gencpp and dynamic_reconfigure put the devel space's include
+# directory on this directory's include path, and catkin_package exports it (devel space) or installs the headers to
+# include/tread_wear/ (install space).
+include_directories(include ${catkin_INCLUDE_DIRS})
+
+# A ROS module: a module (cmake/modules.cmake) that also links the ROS packages and is built after the message and
+# dynamic_reconfigure headers.
+#catkin_lint: ignore_once literal_project_name
 function(tread_wear_ros_module name)
   tread_wear_module(${name} ${ARGN})
-  string(REPLACE "/" "_" target tread_wear_${name})
-  target_include_directories(${target} PUBLIC ${catkin_INCLUDE_DIRS}
-                             $<BUILD_INTERFACE:${CATKIN_DEVEL_PREFIX}/${CATKIN_GLOBAL_INCLUDE_DESTINATION}>)
+  string(REPLACE "/" "_" target ${PROJECT_NAME}_${name})
   target_link_libraries(${target} PUBLIC ${catkin_LIBRARIES})
   add_dependencies(${target} ${PROJECT_NAME}_generate_messages_cpp ${PROJECT_NAME}_gencfg)
 endfunction()
@@ -14,9 +22,8 @@ tread_wear_ros_module(ros MODULES model estimation io)
 find_package(BZip2 REQUIRED)
 find_package(roslz4 REQUIRED)
 tread_wear_ros_module(ros/bag MODULES model vehicle estimation io cli PRIVATE BZip2::BZip2 ${roslz4_LIBRARIES})
-target_include_directories(tread_wear_ros_bag PRIVATE ${roslz4_INCLUDE_DIRS})
+target_include_directories(${PROJECT_NAME}_ros_bag PRIVATE ${roslz4_INCLUDE_DIRS})
 
-add_executable(tread_wear_node src/nodes/tread_wear_node.cpp)
-target_link_libraries(tread_wear_node tread_wear_ros)
-install(TARGETS tread_wear_node RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
-install(PROGRAMS scripts/rviz_screenshot.sh DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+add_executable(${PROJECT_NAME}_node src/nodes/tread_wear_node.cpp)
+target_link_libraries(${PROJECT_NAME}_node ${PROJECT_NAME}_ros)
+install(TARGETS ${PROJECT_NAME}_node RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})

@@ -1,3 +1,14 @@
+# A GoogleTest binary over the given libraries, registered with ctest by catkin and built by default (build + ctest
+# suffice), run from the source tree, which it knows as TREAD_WEAR_SOURCE_DIR.
+#catkin_lint: ignore_once literal_project_name
+function(tread_wear_add_gtest name source)
+  catkin_add_gtest(${name} ${source} WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+  target_link_libraries(${name} ${ARGN} GTest::gtest_main)
+  target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR}/test)
+  target_compile_definitions(${name} PRIVATE TREAD_WEAR_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+  set_target_properties(${name} PROPERTIES EXCLUDE_FROM_ALL OFF)
+endfunction()
+
 # Tests mirror the modules: test/<module>/test_<name>.cpp -> one gtest binary each (test/paper: the paper's
 # tables), built by default so that build + ctest suffice. ROS-free tests link the cli module, which carries every
 # ROS-free module; test/common holds their shared helpers. ROS tests: test/ros (rostest) and test/ros/bag.
@@ -10,16 +21,16 @@ foreach(dir ${TREAD_WEAR_TEST_DIRS})
   file(GLOB tests CONFIGURE_DEPENDS ${dir}/test_*.cpp)
   foreach(src ${tests})
     get_filename_component(name ${src} NAME_WE)
-    tread_wear_add_gtest(${name} ${src} tread_wear_cli)
+    tread_wear_add_gtest(${name} ${src} ${PROJECT_NAME}_cli)
     target_compile_definitions(${name} PRIVATE TREAD_WEAR_BINARY_DIR="${CATKIN_DEVEL_PREFIX}/lib/${PROJECT_NAME}")
   endforeach()
 endforeach()
 
-tread_wear_add_gtest(test_drive_replay ${PROJECT_SOURCE_DIR}/test/ros/bag/test_drive_replay.cpp tread_wear_ros_bag)
-target_compile_definitions(test_drive_replay PRIVATE TREAD_WEAR_REPLAY_BINARY="$<TARGET_FILE:tread_wear_replay>")
-add_dependencies(test_drive_replay tread_wear_replay)
-tread_wear_add_gtest(test_diagnosis_bag ${PROJECT_SOURCE_DIR}/test/ros/bag/test_diagnosis_bag.cpp tread_wear_ros_bag
-                     tread_wear_cli)
+tread_wear_add_gtest(test_drive_replay ${PROJECT_SOURCE_DIR}/test/ros/bag/test_drive_replay.cpp ${PROJECT_NAME}_ros_bag)
+target_compile_definitions(test_drive_replay PRIVATE TREAD_WEAR_REPLAY_BINARY="$<TARGET_FILE:${PROJECT_NAME}_replay>")
+add_dependencies(test_drive_replay ${PROJECT_NAME}_replay)
+tread_wear_add_gtest(test_diagnosis_bag ${PROJECT_SOURCE_DIR}/test/ros/bag/test_diagnosis_bag.cpp
+                     ${PROJECT_NAME}_ros_bag ${PROJECT_NAME}_cli)
 target_compile_definitions(test_diagnosis_bag PRIVATE
                            TREAD_WEAR_PYTHON_PATH="${CATKIN_DEVEL_PREFIX}/${CATKIN_GLOBAL_PYTHON_DESTINATION}")
 include(cmake/rostests.cmake)
