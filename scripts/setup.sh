@@ -24,6 +24,8 @@ TREAD_WEAR_APT_PACKAGES=(
   libboost-dev
   # plotting scripts
   python3-matplotlib python3-numpy
+  # CI's check of the ROS package files (catkin_lint in .ci/run)
+  catkin-lint
 )
 
 repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
