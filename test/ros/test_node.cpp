@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include <diagnostic_msgs/DiagnosticArray.h>
+#include <dynamic_reconfigure/Reconfigure.h>
 
 #include <algorithm>
 #include <cmath>
@@ -248,10 +249,13 @@ TEST(NodeIo, PlannerServiceMatchesTheCore) {
   tread_wear::WheelState airborne = s;
   airborne.load_n = 0.0;
   srv.request.states.push_back(airborne);
+  tread_wear::WheelState beyond_limits = s;  // the live topics reject it (limits/max_abs_path_curvature_per_m 100)
+  beyond_limits.path_curvature_per_m = 500.0;
+  srv.request.states.push_back(beyond_limits);
   ASSERT_TRUE(ros::service::call("evaluate_wear", srv));
   ASSERT_TRUE(srv.response.success) << srv.response.message;
   EXPECT_EQ(srv.response.preset, "standard");
-  ASSERT_EQ(srv.response.results.size(), 3u);
+  ASSERT_EQ(srv.response.results.size(), 4u);
   const WearResult direct = directResult(Preset::kStandard);
   EXPECT_EQ(srv.response.results[0].status, tread_wear::WheelWearRate::STATUS_OK);
   EXPECT_NEAR(srv.response.results[0].wear_rate_kg_per_m, direct.wear_rate_kg_per_m,
@@ -261,6 +265,9 @@ TEST(NodeIo, PlannerServiceMatchesTheCore) {
   EXPECT_NE(srv.response.results[1].error.find("speed_mps"), std::string::npos);
   EXPECT_EQ(srv.response.results[2].status, tread_wear::WheelWearRate::STATUS_OK);
   EXPECT_EQ(srv.response.results[2].wear_rate_kg_per_m, 0.0);
+  EXPECT_EQ(srv.response.results[3].status, tread_wear::WheelWear::STATUS_INVALID_INPUT);
+  EXPECT_NE(srv.response.results[3].error.find("limits/max_abs_path_curvature_per_m"), std::string::npos)
+      << srv.response.results[3].error;
 
   srv.request.wheel = "nope";
   ASSERT_TRUE(ros::service::call("evaluate_wear", srv));
@@ -283,6 +290,51 @@ TEST(NodeIo, ResetServiceStartsANewTire) {
   srv.request.tire_id = "";
   ASSERT_TRUE(ros::service::call("reset_wheel", srv));
   EXPECT_FALSE(srv.response.success);
+}
+
+// dynamic_reconfigure clamped update_rate_hz into [1, 1000] before the node saw it and the node accepted rates
+// below marker_rate_hz; now a request that the start-up validation rejects changes nothing and says so.
+TEST(NodeIo, ReconfigureRejectsWhatStartUpRejectsWithoutClamping) {
+  const std::string service = "/tread_wear_node/set_parameters";
+  ASSERT_TRUE(ros::service::waitForService(service, ros::Duration(10.0)));
+  auto setRate = [&](double rate_hz) {
+    dynamic_reconfigure::Reconfigure srv;
+    dynamic_reconfigure::DoubleParameter p;
+    p.name = "update_rate_hz";
+    p.value = rate_hz;
+    srv.request.config.doubles.push_back(p);
+    EXPECT_TRUE(ros::service::call(service, srv));
+    for (const auto& d : srv.response.config.doubles)
+      if (d.name == "update_rate_hz") return d.value;
+    return std::numeric_limits<double>::quiet_NaN();
+  };
+  ros::NodeHandle nh;
+  std::string loop_message, loop_rate;
+  std::mutex mutex;
+  ros::Subscriber ds = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
+      "/diagnostics", 10, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
+        std::lock_guard<std::mutex> lock(mutex);
+        for (const auto& st : m->status)
+          if (st.name.find("update loop") != std::string::npos) {
+            loop_message = st.message;
+            for (const auto& kv : st.values)
+              if (kv.key == "update rate [Hz]") loop_rate = kv.value;
+          }
+      });
+  // two_wheels.yaml: 50 Hz, marker_rate_hz 2, max_step_s 0.6 (so at least 2 / 0.6 = 3.3 Hz).
+  for (double rejected : {0.5, 5000.0, 1.5}) EXPECT_EQ(setRate(rejected), 50.0) << rejected << " Hz";
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(5.0);
+  bool reported = false;
+  while (!reported && ros::WallTime::now() < end) {
+    ros::WallDuration(0.05).sleep();
+    ros::spinOnce();
+    std::lock_guard<std::mutex> lock(mutex);
+    reported = loop_message.find("reconfigure rejected: update_rate_hz = 1.5") != std::string::npos;
+  }
+  EXPECT_TRUE(reported) << loop_message;
+  EXPECT_EQ(loop_rate, "50.000");
+  EXPECT_EQ(setRate(25.0), 25.0);
+  EXPECT_EQ(setRate(50.0), 50.0);
 }
 
 // ---------------------------------------------------------------------------------------------------------

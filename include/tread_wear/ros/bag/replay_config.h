@@ -1,6 +1,6 @@
 #pragma once
 /// @file replay_config.h
-/// The replay's configuration, read from the node's YAML (config/vehicle_wheels.yaml) without a ROS master.
+/// The replay's configuration: the node's YAML (config/vehicle_wheels.yaml), read without a ROS master.
 
 #include <string>
 #include <vector>
@@ -16,9 +16,10 @@ struct ReplayConfig {
   std::vector<std::string> load_topics, slip_topics, speed_topics, temperature_topics, wear_topics;  ///< per wheel
 };
 
-/// Reads the node configuration file (keys of docs/node.md: update_rate_hz, preset, turn_slip_orientation,
-/// min_speed_mps, stale_timeout_s, max_step_s, limits, wheels[name, frame_id, tire_params, tire_id, *_topic]).
-/// Relative tire_params start at the file's directory. @throw std::runtime_error naming the file and key
+/// Reads the node configuration file through the node's own reader (io/wheel_config.h: the same keys, defaults
+/// and validation as tread_wear_node) and loads each wheel's tire file. Relative tire_params start at the file's
+/// directory unless the file sets config_dir; topics are made absolute. @throw std::runtime_error naming the file and
+/// the key
 ReplayConfig loadReplayConfig(const std::string& path);
 
 }  // namespace tread_wear
