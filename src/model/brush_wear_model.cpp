@@ -259,6 +259,10 @@ Integrands integrandsOf(const NodeSolution& o, double x, double y_mz, double v_m
 /// side (Eqs 12-18), with the running sums of Eq 20: the operating point's constants, the per-strip state of the
 /// marcher (march::PathState, march::NodeLanes) and the bookkeeping of the local substeps. It lives on
 /// evaluate()'s stack (about 140 KB with GridSpec::kMaxStrips strips), so an evaluation allocates nothing.
+/// Its members are defined `inline`: the library is position-independent code, in which GCC does not inline a
+/// function of external linkage (another definition could interpose it), and the per-step helpers must fold into
+/// the x step, and the x step into evaluate()'s loop, as before the split (callgrind: 8% more instructions outside
+/// the SIMD kernel when they did not).
 class BrushWearModel::Sweep {
  public:
   /// @param patch footprint and pressure of the operating point (Eqs 6-9); it and the grids xg, yg (the
@@ -272,7 +276,7 @@ class BrushWearModel::Sweep {
   void leadingEdge();
   /// x step i, from node i to node i + 1, of every strip: one implicit BDF2 step with return mapping, then
   /// local substeps where the step ended in poorly damped sliding, then the step's terms of Eq 20.
-  void step(int i);
+  [[gnu::always_inline]] void step(int i);
   /// Fx, Fy, Mz, the wear rates and the area fractions (Eq 20).
   void results(WearResult* result) const;
 
@@ -286,8 +290,7 @@ class BrushWearModel::Sweep {
   double pressureAtNode(int i, double* sat_x);
   void setReturningStepTerms(int i, const march::StepTerms& coarse);
   void chooseSubstepLevels(double h);
-  void redoInSubsteps(int i, int j0, int j1, const march::Node& node, Integrands* node_change,
-                      Integrands* corrections);
+  void redoInSubsteps(int i, int j0, int j1, const march::Node& node, Integrands* node_change, Integrands* corrections);
   void setFirstSubstepTerms(int i, int j0, int j1, int lanes_end, double dss, const march::StepTerms& inner);
   void marchSubsteps(int i, int j0, int j1, double dss, const march::StepTerms& inner, const march::Node& node,
                      Integrands* corrections);
@@ -299,25 +302,25 @@ class BrushWearModel::Sweep {
   const XGrid& xg_;
   const YGrid& yg_;
   PatchFields* const fields_;
-  const double v_mps_;          ///< V, speed of the wheel centre [m/s]
-  const double vr_mps_;         ///< V_r, rolling speed: elements cross the patch at it [m/s]
-  const TipKinematics kin_;     ///< v_r's slip terms and yaw rate (Eq 14 generalised)
+  const double v_mps_;       ///< V, speed of the wheel centre [m/s]
+  const double vr_mps_;      ///< V_r, rolling speed: elements cross the patch at it [m/s]
+  const TipKinematics kin_;  ///< v_r's slip terms and yaw rate (Eq 14 generalised)
   // Pressure p = p_scale g_x g_y (Eqs 7-8) and sat(p) (Eq 11) at the nodes: the grids hold g_x's even part and
   // its power -q; the centre shift's factors (1 - B s) and (1 - B s)^-q and the scales depend on Fz.
-  const double bx_;             ///< B of g_x (Eq 7) [-]
-  const double p_scale_pa_;     ///< Fz/(2a)/(2b) [Pa]
-  const double sat_scale_;      ///< (p_scale/p_ref)^-q [-]
-  const int shift_terms_;       ///< series terms of (1 - B s)^-q for |B s| <= |B| (ShiftSaturation)
-  const int n_;                 ///< x steps
-  const int ny_;                ///< strips of the grid
-  const bool mirror_;           ///< march half the strips: v_r does not depend on y without turn slip, g_y is even
-  const int n_active_;          ///< strips marched
-  const int n_padded_;          ///< strips with lanes: the packs may run up to kMaxLanes past n_active_
-  const int max_level_;         ///< finest substep level (2^max_level substeps per step)
-  const int initial_budget_;    ///< substep nodes allowed in this evaluation
-  const double edge_weight_;    ///< 1/(1 + w1) - 1/2: the edge intervals' wear weight over the trapezoid's [-]
+  const double bx_;           ///< B of g_x (Eq 7) [-]
+  const double p_scale_pa_;   ///< Fz/(2a)/(2b) [Pa]
+  const double sat_scale_;    ///< (p_scale/p_ref)^-q [-]
+  const int shift_terms_;     ///< series terms of (1 - B s)^-q for |B s| <= |B| (ShiftSaturation)
+  const int n_;               ///< x steps
+  const int ny_;              ///< strips of the grid
+  const bool mirror_;         ///< march half the strips: v_r does not depend on y without turn slip, g_y is even
+  const int n_active_;        ///< strips marched
+  const int n_padded_;        ///< strips with lanes: the packs may run up to kMaxLanes past n_active_
+  const int max_level_;       ///< finest substep level (2^max_level substeps per step)
+  const int initial_budget_;  ///< substep nodes allowed in this evaluation
+  const double edge_weight_;  ///< 1/(1 + w1) - 1/2: the edge intervals' wear weight over the trapezoid's [-]
   const march::Constants constants_;
-  int refinement_budget_;       ///< substep nodes left
+  int refinement_budget_;  ///< substep nodes left
   march::StripConstants strips_;
   // Two path states, at node i and at node i + 1, swapped after each x step: a step redone in substeps starts
   // again from node i without a copy. The same for the node solutions, those at node i being the start of the
@@ -334,16 +337,16 @@ class BrushWearModel::Sweep {
   double substep_ds_[GridSpec::kMaxStrips];
   int level_[GridSpec::kMaxStrips];
   int n_back_ = 0;
-  march::StepTermLanes back_;   ///< per x step: step terms of strips coming back from substeps
-  march::PatchSums sums_{};     ///< the packs' sums of the coarse node solutions
+  march::StepTermLanes back_;  ///< per x step: step terms of strips coming back from substeps
+  march::PatchSums sums_{};    ///< the packs' sums of the coarse node solutions
   march::RootCounts root_counts_;
-  Integrands total_;            ///< everything else of Eq 20 and the stick areas: N, N m, kg/s, m^2
+  Integrands total_;  ///< everything else of Eq 20 and the stick areas: N, N m, kg/s, m^2
   double chunk_px_[kNodeChunk], chunk_sat_[kNodeChunk];  ///< pressureAtNode's p/g_y [Pa] and sat_x [-]
-  int chunk_first_ = -kNodeChunk;                           ///< their first node
+  int chunk_first_ = -kNodeChunk;                        ///< their first node
 };
 
-BrushWearModel::Sweep::Sweep(const BrushWearModel& model, const OperatingPoint& op, const ContactPatch& patch,
-                             const XGrid& xg, const YGrid& yg, PatchFields* fields)
+inline BrushWearModel::Sweep::Sweep(const BrushWearModel& model, const OperatingPoint& op, const ContactPatch& patch,
+                                    const XGrid& xg, const YGrid& yg, PatchFields* fields)
     : model_(model),
       patch_(patch),
       xg_(xg),
@@ -374,7 +377,7 @@ BrushWearModel::Sweep::Sweep(const BrushWearModel& model, const OperatingPoint& 
   }
 }
 
-march::Constants BrushWearModel::Sweep::marchConstants(const OperatingPoint& op) const {
+inline march::Constants BrushWearModel::Sweep::marchConstants(const OperatingPoint& op) const {
   const FrictionParams& fr = model_.params_.friction;
   const TreadParams& tp = model_.params_.tread;
   const WearLawParams& wl = model_.params_.wear;
@@ -414,7 +417,7 @@ march::Constants BrushWearModel::Sweep::marchConstants(const OperatingPoint& op)
   return k;
 }
 
-void BrushWearModel::Sweep::initStrips(bool enter_at_road_velocity) {
+inline void BrushWearModel::Sweep::initStrips(bool enter_at_road_velocity) {
   const double a = patch_.halfLength(), b = patch_.halfWidth();
   for (int j = 0; j < n_padded_; ++j) {  // the strips from n_active_ on are zero and never read back
     const bool active = j < n_active_;
@@ -433,7 +436,7 @@ void BrushWearModel::Sweep::initStrips(bool enter_at_road_velocity) {
   for (int j = 0; j < n_active_; ++j) refined_step_[j] = -2;  // none
 }
 
-march::StepTerms BrushWearModel::Sweep::stepTerms(double ds, const march::Bdf2& c, double w) const {
+inline march::StepTerms BrushWearModel::Sweep::stepTerms(double ds, const march::Bdf2& c, double w) const {
   march::StepTerms t;
   t.c = c;
   t.w = w;
@@ -448,8 +451,8 @@ march::StepTerms BrushWearModel::Sweep::stepTerms(double ds, const march::Bdf2& 
 
 /// p / g_y [Pa] and the x factor of sat(p) at x/a = s from the grid's g_x even part and its power -q there and the
 /// shift factor (1 - B s)^-q: (p/p_ref)^-q separates into this evaluation's scale and those factors (no pow).
-double BrushWearModel::Sweep::pressureFrom(double gx_even, double sat_gx, double s, double shift,
-                                           double* sat_x) const {
+inline double BrushWearModel::Sweep::pressureFrom(double gx_even, double sat_gx, double s, double shift,
+                                                  double* sat_x) const {
   const double px = std::max(0.0, p_scale_pa_ * gx_even * (1.0 - bx_ * s));
   *sat_x = px > 0.0 ? sat_scale_ * sat_gx * shift : 0.0;
   return px;
@@ -457,7 +460,7 @@ double BrushWearModel::Sweep::pressureFrom(double gx_even, double sat_gx, double
 
 /// pressureFrom at grid node i, computed for a chunk of nodes at a time, so that the independent series of the
 /// shift factor overlap instead of each waiting in the x step's chain.
-double BrushWearModel::Sweep::pressureAtNode(int i, double* sat_x) {
+inline double BrushWearModel::Sweep::pressureAtNode(int i, double* sat_x) {
   if (i >= chunk_first_ + kNodeChunk) {
     chunk_first_ = i;
     const int count = std::min(kNodeChunk, n_ + 1 - i);
@@ -471,7 +474,7 @@ double BrushWearModel::Sweep::pressureAtNode(int i, double* sat_x) {
   return chunk_px_[i - chunk_first_];
 }
 
-void BrushWearModel::Sweep::leadingEdge() {
+inline void BrushWearModel::Sweep::leadingEdge() {
   const double a = patch_.halfLength(), b = patch_.halfWidth();
   const double w0 = xg_.wx[0] * a * b;
   march::NodeLanes& o = *prev_nodes_;
@@ -489,7 +492,7 @@ void BrushWearModel::Sweep::leadingEdge() {
   }
 }
 
-void BrushWearModel::Sweep::step(int i) {
+inline void BrushWearModel::Sweep::step(int i) {
   const double a = patch_.halfLength();
   const Step& sp = xg_.steps[i];
   const march::StepTerms coarse = stepTerms(sp.ds, march::Bdf2{sp.a1, sp.a2, sp.beta}, sp.w);
@@ -527,7 +530,7 @@ void BrushWearModel::Sweep::step(int i) {
 /// The step terms of x step i per strip, for the strips coming back from substeps in step i - 1: after substeps
 /// the step ratio is 2^level; variable-step BDF2 is zero-stable only below 1 + sqrt(2), so a larger jump
 /// restarts with one BDF1 step.
-void BrushWearModel::Sweep::setReturningStepTerms(int i, const march::StepTerms& coarse) {
+inline void BrushWearModel::Sweep::setReturningStepTerms(int i, const march::StepTerms& coarse) {
   const double ds = xg_.steps[i].ds;
   for (int j = 0; j < n_padded_; ++j) {
     if (j < n_active_ && refined_step_[j] == i - 1) {
@@ -541,7 +544,7 @@ void BrushWearModel::Sweep::setReturningStepTerms(int i, const march::StepTerms&
 
 /// Per strip the smallest level L with rate h / 2^L <= resolution for the step's duration h [s], within
 /// max_level and the node budget (spent in strip order); 0 where the step stands.
-void BrushWearModel::Sweep::chooseSubstepLevels(double h) {
+inline void BrushWearModel::Sweep::chooseSubstepLevels(double h) {
   for (int j = 0; j < n_active_; ++j) {
     const double rate = nodes_->refine_rate[j];
     level_[j] = 0;
@@ -556,8 +559,8 @@ void BrushWearModel::Sweep::chooseSubstepLevels(double h) {
 /// Redoes x step i of strips [j0, j1) (one level L) in 2^L equal substeps ending on the coarse `node`, in packs
 /// as the coarse step; integrates their outputs over the substeps by the trapezoid rule, adds the difference to
 /// their coarse trapezoids, and replaces their coarse node values in the node sums.
-void BrushWearModel::Sweep::redoInSubsteps(int i, int j0, int j1, const march::Node& node, Integrands* node_change,
-                                           Integrands* corrections) {
+inline void BrushWearModel::Sweep::redoInSubsteps(int i, int j0, int j1, const march::Node& node,
+                                                  Integrands* node_change, Integrands* corrections) {
   const double v_m = constants_.v_m;
   const double ds = xg_.steps[i].ds;
   const double dss = ds / (1 << level_[j0]), hds = 0.5 * ds, x_i = patch_.halfLength() * xg_.s[i];
@@ -585,8 +588,8 @@ void BrushWearModel::Sweep::redoInSubsteps(int i, int j0, int j1, const march::N
 
 /// The first substep's BDF2 coefficients follow each strip's last step (coarse, or substeps); the lanes past the
 /// run, up to lanes_end, get any valid terms (`inner`).
-void BrushWearModel::Sweep::setFirstSubstepTerms(int i, int j0, int j1, int lanes_end, double dss,
-                                                 const march::StepTerms& inner) {
+inline void BrushWearModel::Sweep::setFirstSubstepTerms(int i, int j0, int j1, int lanes_end, double dss,
+                                                        const march::StepTerms& inner) {
   for (int j = j0; j < j1; ++j) {
     const double last_ds = refined_step_[j] == i - 1 ? substep_ds_[j] : (i > 0 ? xg_.steps[i - 1].ds : 0.0);
     const double w_in = last_ds > 0.0 ? dss / last_ds : 0.0;
@@ -597,8 +600,8 @@ void BrushWearModel::Sweep::setFirstSubstepTerms(int i, int j0, int j1, int lane
 
 /// The substeps of length dss [x/a] of strips [j0, j1) in x step i, ending on the coarse `node`, and their
 /// trapezoids (Eq 20) with the endpoint weight of the sliding wear on a substep next to an edge (addEdgeWear).
-void BrushWearModel::Sweep::marchSubsteps(int i, int j0, int j1, double dss, const march::StepTerms& inner,
-                                          const march::Node& node, Integrands* corrections) {
+inline void BrushWearModel::Sweep::marchSubsteps(int i, int j0, int j1, double dss, const march::StepTerms& inner,
+                                                 const march::Node& node, Integrands* corrections) {
   const int k_sub = 1 << level_[j0];
   const int fine = 1 << max_level_, stride = fine >> level_[j0];  // substep k is the finest grid's k stride
   for (int k = 1; k <= k_sub; ++k) {
@@ -626,7 +629,7 @@ void BrushWearModel::Sweep::marchSubsteps(int i, int j0, int j1, double dss, con
 /// p vanishes linearly at x = +-a, so the sliding wear ~ tau^w1 ~ p^w1 has an endpoint singularity there: on the
 /// interval next to an edge its integral is h f/(1 + w1), not the trapezoid's h f/2. For the strips whose edge
 /// step i stands (those redone in substeps got it on their substep there).
-void BrushWearModel::Sweep::addEdgeWear(int i, Integrands* corrections) const {
+inline void BrushWearModel::Sweep::addEdgeWear(int i, Integrands* corrections) const {
   const double ds = xg_.steps[i].ds;
   for (int j = 0; j < n_active_; ++j) {
     const double wt_inner = i == 0 ? nodes_->wt[j] : prev_nodes_->wt[j];  // at the interval's end away from the edge
@@ -634,7 +637,7 @@ void BrushWearModel::Sweep::addEdgeWear(int i, Integrands* corrections) const {
   }
 }
 
-void BrushWearModel::Sweep::storeNode(int i, int j, const NodeSolution& o, const march::PathState& state) const {
+inline void BrushWearModel::Sweep::storeNode(int i, int j, const NodeSolution& o, const march::PathState& state) const {
   const unsigned char st = o.stuck ? 0 : (o.s <= constants_.v_m ? 1 : 2);
   for (int jj : {j, ny_ - 1 - j}) {
     const int k = fields_->index(i, jj);
@@ -651,11 +654,11 @@ void BrushWearModel::Sweep::storeNode(int i, int j, const NodeSolution& o, const
   }
 }
 
-void BrushWearModel::Sweep::results(WearResult* result) const {
+inline void BrushWearModel::Sweep::results(WearResult* result) const {
   Integrands total = total_;
   for (int lane = 0; lane < march::kMaxLanes; ++lane)
-    total.add(1.0, {sums_.fx[lane], sums_.fy[lane], sums_.mz[lane], sums_.wear[lane], sums_.stick[lane],
-                    sums_.exact[lane]});
+    total.add(1.0,
+              {sums_.fx[lane], sums_.fy[lane], sums_.mz[lane], sums_.wear[lane], sums_.stick[lane], sums_.exact[lane]});
   const double area = patch_.area();  // sum of the weights equals the area exactly
   result->fx_n = total.fx;
   result->fy_n = total.fy;
