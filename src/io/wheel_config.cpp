@@ -82,21 +82,27 @@ bool fail(std::string* error, const std::string& key, const std::string& value, 
   return false;
 }
 
+ConfigValue value(ConfigValue::Type type) {
+  ConfigValue v;
+  v.type = type;
+  return v;
+}
+
 /// The value at a "/"-separated path, or nullptr when a level is absent; false (with *error) when a level on the
 /// way is not a map.
-bool find(const nlohmann::json& doc, const std::string& path, const nlohmann::json** out, std::string* error) {
-  const nlohmann::json* at = &doc;
+bool lookup(const ConfigValue& doc, const std::string& path, const ConfigValue** out, std::string* error) {
+  const ConfigValue* at = &doc;
   std::size_t begin = 0;
   while (true) {
+    if (at->type != ConfigValue::Type::kMap)
+      return fail(error, path.substr(0, begin == 0 ? 0 : begin - 1), at->text(), "a map");
     const std::size_t slash = path.find('/', begin);
-    const std::string name = path.substr(begin, slash == std::string::npos ? std::string::npos : slash - begin);
-    if (!at->is_object()) return fail(error, path.substr(0, begin == 0 ? 0 : begin - 1), at->dump(), "a map");
-    const auto it = at->find(name);
-    if (it == at->end()) {
+    const auto it = at->map.find(path.substr(begin, slash == std::string::npos ? std::string::npos : slash - begin));
+    if (it == at->map.end()) {
       *out = nullptr;
       return true;
     }
-    at = &*it;
+    at = &it->second;
     if (slash == std::string::npos) break;
     begin = slash + 1;
   }
@@ -104,22 +110,22 @@ bool find(const nlohmann::json& doc, const std::string& path, const nlohmann::js
   return true;
 }
 
-bool readString(const nlohmann::json& map, const std::string& where, const char* key, std::string* out,
+bool readString(const ConfigValue& map, const std::string& where, const char* key, std::string* out,
                 std::string* error) {
-  const auto it = map.find(key);
-  if (it == map.end()) return true;
-  if (!it->is_string()) return fail(error, where + key, it->dump(), "a string");
-  *out = it->get<std::string>();
+  const auto it = map.map.find(key);
+  if (it == map.map.end()) return true;
+  if (it->second.type != ConfigValue::Type::kString) return fail(error, where + key, it->second.text(), "a string");
+  *out = it->second.string;
   return true;
 }
 
-bool readWheel(const nlohmann::json& w, const std::string& where, const std::string& config_dir, WheelConfig* wc,
+bool readWheel(const ConfigValue& w, const std::string& where, const std::string& config_dir, WheelConfig* wc,
                std::string* error) {
-  if (!w.is_object()) return fail(error, where, w.dump(), "a map");
+  if (w.type != ConfigValue::Type::kMap) return fail(error, where, w.text(), "a map");
   const std::string prefix = where + ".";
-  if (!w.contains("name")) return fail(error, prefix + "name", "(missing)", "given");
+  if (!w.map.count("name")) return fail(error, prefix + "name", "(missing)", "given");
   if (!readString(w, prefix, "name", &wc->name, error)) return false;
-  if (!w.contains("tire_params")) return fail(error, prefix + "tire_params", "(missing)", "given");
+  if (!w.map.count("tire_params")) return fail(error, prefix + "tire_params", "(missing)", "given");
   wc->frame_id = wc->name;
   const std::string topics = "wheels/" + wc->name + "/";
   wc->load_topic = topics + "load";
@@ -136,11 +142,13 @@ bool readWheel(const nlohmann::json& w, const std::string& where, const std::str
       !readString(w, prefix, "temperature_topic", &wc->temperature_topic, error) ||
       !readString(w, prefix, "wear_topic", &wc->wear_topic, error))
     return false;
-  if (w.contains("position_m")) {
-    const nlohmann::json& p = w["position_m"];
-    if (!p.is_array() || p.size() != 3 || !std::all_of(p.begin(), p.end(), [](const auto& v) { return v.is_number(); }))
-      return fail(error, prefix + "position_m", p.dump(), "a list of three numbers [x, y, z] [m]");
-    for (std::size_t k = 0; k < 3; ++k) wc->position_m[k] = p[k].get<double>();
+  const auto position = w.map.find("position_m");
+  if (position != w.map.end()) {
+    const ConfigValue& p = position->second;
+    if (p.type != ConfigValue::Type::kList || p.list.size() != 3 ||
+        !std::all_of(p.list.begin(), p.list.end(), [](const ConfigValue& v) { return v.type == ConfigValue::Type::kNumber; }))
+      return fail(error, prefix + "position_m", p.text(), "a list of three numbers [x, y, z] [m]");
+    for (std::size_t k = 0; k < 3; ++k) wc->position_m[k] = p.list[k].number;
     wc->has_position = true;
   }
   if (!wc->tire_params.empty() && wc->tire_params[0] != '/' && !config_dir.empty())
@@ -149,45 +157,65 @@ bool readWheel(const nlohmann::json& w, const std::string& where, const std::str
 }
 
 /// YAML 1.1 booleans as rosparam's loader reads them (not yaml-cpp's single letters y/n, which are names).
-bool yamlBool(const std::string& s, bool* value) {
+bool yamlBool(const std::string& s, bool* v) {
   std::string lower(s);
   std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
-  if (lower == "true" || lower == "yes" || lower == "on") *value = true;
-  else if (lower == "false" || lower == "no" || lower == "off") *value = false;
+  if (lower == "true" || lower == "yes" || lower == "on") *v = true;
+  else if (lower == "false" || lower == "no" || lower == "off") *v = false;
   else return false;
   return true;
 }
 
-/// A YAML node as the JSON tree readNodeConfig() reads; plain scalars become null, booleans or numbers when they
-/// read as such, quoted ones stay strings.
-nlohmann::json toJson(const YAML::Node& node) {
+/// A YAML node as the tree readNodeConfig() reads: plain scalars become null, booleans or numbers when they read as
+/// such; quoted ones stay strings.
+ConfigValue fromYaml(const YAML::Node& node) {
   switch (node.Type()) {
     case YAML::NodeType::Undefined:
-    case YAML::NodeType::Null: return nullptr;
+    case YAML::NodeType::Null: return ConfigValue();
     case YAML::NodeType::Sequence: {
-      nlohmann::json list = nlohmann::json::array();
-      for (const YAML::Node& item : node) list.push_back(toJson(item));
+      ConfigValue list = value(ConfigValue::Type::kList);
+      for (const YAML::Node& item : node) list.list.push_back(fromYaml(item));
       return list;
     }
     case YAML::NodeType::Map: {
-      nlohmann::json map = nlohmann::json::object();
-      for (const auto& kv : node) map[kv.first.as<std::string>()] = toJson(kv.second);
+      ConfigValue map = value(ConfigValue::Type::kMap);
+      for (const auto& kv : node) map.map[kv.first.as<std::string>()] = fromYaml(kv.second);
       return map;
     }
     case YAML::NodeType::Scalar: break;
   }
-  const std::string& s = node.Scalar();
-  if (node.Tag() == "!") return s;  // quoted
-  bool b;
-  if (yamlBool(s, &b)) return b;
-  long long i;
-  if (YAML::convert<long long>::decode(node, i)) return i;
-  double d;
-  if (YAML::convert<double>::decode(node, d)) return d;
-  return s;
+  ConfigValue v = value(ConfigValue::Type::kString);
+  v.string = node.Scalar();
+  if (node.Tag() == "!") return v;  // quoted
+  if (yamlBool(v.string, &v.boolean)) {
+    v.type = ConfigValue::Type::kBool;
+  } else if (YAML::convert<double>::decode(node, v.number)) {
+    v.type = ConfigValue::Type::kNumber;
+  }
+  return v;
 }
 
 }  // namespace
+
+std::string ConfigValue::text() const {
+  switch (type) {
+    case Type::kNull: return "null";
+    case Type::kBool: return boolean ? "true" : "false";
+    case Type::kNumber: return tread_wear::text(number);
+    case Type::kString: return "\"" + string + "\"";
+    case Type::kList: {
+      std::string out = "[";
+      for (std::size_t i = 0; i < list.size(); ++i) out += (i > 0 ? ", " : "") + list[i].text();
+      return out + "]";
+    }
+    case Type::kMap: {
+      std::string out = "{";
+      for (const auto& kv : map) out += (out.size() > 1 ? ", " : "") + kv.first + ": " + kv.second.text();
+      return out + "}";
+    }
+  }
+  return "";
+}
 
 bool NodeConfig::validate(std::string* error) const {
   if (!(update_rate_hz > 0.0 && update_rate_hz <= 1000.0))
@@ -251,36 +279,37 @@ std::string NodeConfig::describe() const {
   return s.str();
 }
 
-bool readNodeConfig(const nlohmann::json& document, const std::string& default_config_dir, NodeConfig* config,
+bool readNodeConfig(const ConfigValue& document, const std::string& default_config_dir, NodeConfig* config,
                     std::string* error) {
-  if (!document.is_object()) return fail(error, "(document)", document.dump(), "a map of keys");
+  if (document.type != ConfigValue::Type::kMap) return fail(error, "(document)", document.text(), "a map of keys");
   NodeConfig c;
   c.config_dir = default_config_dir;
-  const nlohmann::json* v = nullptr;
+  const ConfigValue* v = nullptr;
   for (const NumberKey& k : kNumberKeys) {
-    if (!find(document, k.key, &v, error)) return false;
+    if (!lookup(document, k.key, &v, error)) return false;
     if (v == nullptr) continue;
-    if (!v->is_number()) return fail(error, k.key, v->dump(), std::string("a number [") + k.unit + "]");
-    k.field(c) = v->get<double>();
+    if (v->type != ConfigValue::Type::kNumber)
+      return fail(error, k.key, v->text(), std::string("a number [") + k.unit + "]");
+    k.field(c) = v->number;
   }
   for (const StringKey& k : kStringKeys) {
-    if (!find(document, k.key, &v, error)) return false;
+    if (!lookup(document, k.key, &v, error)) return false;
     if (v == nullptr) continue;
-    if (!v->is_string()) return fail(error, k.key, v->dump(), "a string");
-    k.field(c) = v->get<std::string>();
+    if (v->type != ConfigValue::Type::kString) return fail(error, k.key, v->text(), "a string");
+    k.field(c) = v->string;
   }
-  if (!find(document, "preset", &v, error)) return false;
-  if (v != nullptr && !(v->is_string() && parsePreset(v->get<std::string>(), &c.model.preset)))
-    return fail(error, "preset", v->dump(), kPresetChoices);
-  if (!find(document, "turn_slip_orientation", &v, error)) return false;
-  if (v != nullptr && !(v->is_string() && parseOrientation(v->get<std::string>(), &c.model.orientation)))
-    return fail(error, "turn_slip_orientation", v->dump(), "literal or flipped");
-  if (!find(document, "wheels", &v, error)) return false;
+  if (!lookup(document, "preset", &v, error)) return false;
+  if (v != nullptr && !(v->type == ConfigValue::Type::kString && parsePreset(v->string, &c.model.preset)))
+    return fail(error, "preset", v->text(), kPresetChoices);
+  if (!lookup(document, "turn_slip_orientation", &v, error)) return false;
+  if (v != nullptr && !(v->type == ConfigValue::Type::kString && parseOrientation(v->string, &c.model.orientation)))
+    return fail(error, "turn_slip_orientation", v->text(), "literal or flipped");
+  if (!lookup(document, "wheels", &v, error)) return false;
   if (v == nullptr) return fail(error, "wheels", "(missing)", "a list of wheels");
-  if (!v->is_array()) return fail(error, "wheels", v->dump(), "a list of wheels");
-  for (std::size_t i = 0; i < v->size(); ++i) {
+  if (v->type != ConfigValue::Type::kList) return fail(error, "wheels", v->text(), "a list of wheels");
+  for (std::size_t i = 0; i < v->list.size(); ++i) {
     WheelConfig wc;
-    if (!readWheel((*v)[i], "wheels[" + std::to_string(i) + "]", c.config_dir, &wc, error)) return false;
+    if (!readWheel(v->list[i], "wheels[" + std::to_string(i) + "]", c.config_dir, &wc, error)) return false;
     c.wheels.push_back(wc);
   }
   if (!c.validate(error)) return false;
@@ -290,10 +319,10 @@ bool readNodeConfig(const nlohmann::json& document, const std::string& default_c
 
 NodeConfig loadNodeConfigFile(const std::string& path) {
   auto failure = [&](const std::string& what) { return std::runtime_error(path + ": " + what); };
-  nlohmann::json document;
+  ConfigValue document;
   try {
     if (!std::ifstream(path)) throw failure("cannot open the file for reading");
-    document = toJson(YAML::LoadFile(path));
+    document = fromYaml(YAML::LoadFile(path));
   } catch (const YAML::Exception& e) {
     throw failure(std::string("not a readable YAML document: ") + e.what());
   }

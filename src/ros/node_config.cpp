@@ -2,30 +2,47 @@
 
 namespace tread_wear {
 
-nlohmann::json parameterTree(XmlRpc::XmlRpcValue& value) {
+ConfigValue parameterTree(XmlRpc::XmlRpcValue& value) {
+  ConfigValue v;
   switch (value.getType()) {
-    case XmlRpc::XmlRpcValue::TypeBoolean: return static_cast<bool>(value);
-    case XmlRpc::XmlRpcValue::TypeInt: return static_cast<int>(value);
-    case XmlRpc::XmlRpcValue::TypeDouble: return static_cast<double>(value);
-    case XmlRpc::XmlRpcValue::TypeString: return static_cast<std::string>(value);
-    case XmlRpc::XmlRpcValue::TypeArray: {
-      nlohmann::json list = nlohmann::json::array();
-      for (int i = 0; i < value.size(); ++i) list.push_back(parameterTree(value[i]));
-      return list;
-    }
-    case XmlRpc::XmlRpcValue::TypeStruct: {
-      nlohmann::json map = nlohmann::json::object();
-      for (auto& kv : value) map[kv.first] = parameterTree(kv.second);
-      return map;
-    }
-    default: return value.toXml();
+    case XmlRpc::XmlRpcValue::TypeInvalid: break;
+    case XmlRpc::XmlRpcValue::TypeBoolean:
+      v.type = ConfigValue::Type::kBool;
+      v.boolean = static_cast<bool>(value);
+      break;
+    case XmlRpc::XmlRpcValue::TypeInt:
+      v.type = ConfigValue::Type::kNumber;
+      v.number = static_cast<int>(value);
+      break;
+    case XmlRpc::XmlRpcValue::TypeDouble:
+      v.type = ConfigValue::Type::kNumber;
+      v.number = static_cast<double>(value);
+      break;
+    case XmlRpc::XmlRpcValue::TypeString:
+      v.type = ConfigValue::Type::kString;
+      v.string = static_cast<std::string>(value);
+      break;
+    case XmlRpc::XmlRpcValue::TypeArray:
+      v.type = ConfigValue::Type::kList;
+      for (int i = 0; i < value.size(); ++i) v.list.push_back(parameterTree(value[i]));
+      break;
+    case XmlRpc::XmlRpcValue::TypeStruct:
+      v.type = ConfigValue::Type::kMap;
+      for (auto& kv : value) v.map[kv.first] = parameterTree(kv.second);
+      break;
+    default:
+      v.type = ConfigValue::Type::kString;
+      v.string = value.toXml();
+      break;
   }
+  return v;
 }
 
 bool loadNodeConfig(const ros::NodeHandle& pnh, NodeConfig* config, std::string* error) {
   XmlRpc::XmlRpcValue namespace_tree;
   // An empty private namespace is no map at all: then every key is absent (and `wheels` is reported missing).
-  nlohmann::json document = nlohmann::json::object();
+  ConfigValue document;
+  document.type = ConfigValue::Type::kMap;
   if (pnh.getParam(pnh.getNamespace(), namespace_tree) &&
       namespace_tree.getType() == XmlRpc::XmlRpcValue::TypeStruct)
     document = parameterTree(namespace_tree);

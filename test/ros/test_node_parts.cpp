@@ -93,22 +93,26 @@ tread_wear::WheelState rigState() {
 // ---------------------------------------------------------------------------------------------------------
 // Configuration: one reader, one defaults table, one validation for the node and the replay.
 
-/// A minimal document: one wheel, every other key absent.
-nlohmann::json minimalDocument() {
-  return {{"wheels", nlohmann::json::array({{{"name", "a"}, {"tire_params", "tires/grosch_wheel.yaml"}}})}};
+/// A minimal document as the parameter server holds it: one wheel, every other key absent.
+XmlRpc::XmlRpcValue minimalDocument() {
+  XmlRpc::XmlRpcValue ns;
+  ns["wheels"][0]["name"] = "a";
+  ns["wheels"][0]["tire_params"] = "tires/grosch_wheel.yaml";
+  return ns;
 }
 
-std::string readError(const nlohmann::json& document) {
+std::string readError(XmlRpc::XmlRpcValue document) {
   NodeConfig c;
   std::string error;
-  EXPECT_FALSE(readNodeConfig(document, "", &c, &error)) << document.dump();
+  EXPECT_FALSE(readNodeConfig(parameterTree(document), "", &c, &error)) << document.toXml();
   return error;
 }
 
 TEST(NodeConfig, AbsentKeysTakeTheDefaultsOfTheTable) {
   NodeConfig c;
   std::string error;
-  ASSERT_TRUE(readNodeConfig(minimalDocument(), "/cfg", &c, &error)) << error;
+  XmlRpc::XmlRpcValue doc = minimalDocument();
+  ASSERT_TRUE(readNodeConfig(parameterTree(doc), "/cfg", &c, &error)) << error;
   NodeConfig expected;  // the table's defaults
   WheelConfig w;
   w.name = "a";
@@ -192,52 +196,59 @@ TEST(NodeConfig, IntegersAndNestedLimitsAreRead) {
 }
 
 TEST(NodeConfig, EachBadValueIsNamedWithItsConstraint) {
+  XmlRpc::XmlRpcValue pair;
+  pair[0] = 1;
+  pair[1] = 2;
+  XmlRpc::XmlRpcValue empty;
+  empty.setSize(0);
   struct Case {
     const char* key;
-    nlohmann::json value;
+    XmlRpc::XmlRpcValue value;
     const char* message;
   };
   const Case cases[] = {
       {"update_rate_hz", 0, "update_rate_hz = 0: must be in (0, 1000]"},
       {"update_rate_hz", 5000, "update_rate_hz = 5000: must be in (0, 1000]"},
       {"update_rate_hz", "fast", "update_rate_hz = \"fast\": must be a number [Hz]"},
+      {"update_rate_hz", true, "update_rate_hz = true: must be a number [Hz]"},
       {"update_rate_hz", 1.0, "update_rate_hz = 1: must be >= 2 / max_step_s = 2 Hz"},
       {"marker_rate_hz", 200, "marker_rate_hz = 200: must be in [0, update_rate_hz = 100]"},
       {"budget_us", -1, "budget_us = -1: must be finite and >= 0"},
       {"min_speed_mps", 0, "min_speed_mps = 0: must be finite and > 0"},
       {"max_step_s", 0.1, "max_step_s = 0.1: must be finite and > stale_timeout_s"},
-      {"limits", nlohmann::json::array({1, 2}), "limits = [1,2]: must be a map"},
+      {"limits", pair, "limits = [1, 2]: must be a map"},
       {"save_interval_s", 0, "save_interval_s = 0: must be finite and > 0"},
       {"preset", "turbo", "preset = \"turbo\": must be fast, standard, fine or reference"},
       {"turn_slip_orientation", "sideways", "turn_slip_orientation = \"sideways\": must be literal or flipped"},
       {"base_frame", "", "base_frame = '': must be non-empty"},
       {"state_file", 3, "state_file = 3: must be a string"},
-      {"wheels", nlohmann::json::array(), "wheels = []: must be a non-empty list"},
+      {"wheels", empty, "wheels = []: must be a non-empty list"},
       {"wheels", "a", "wheels = \"a\": must be a list of wheels"},
   };
   for (const Case& c : cases) {
-    nlohmann::json doc = minimalDocument();
+    XmlRpc::XmlRpcValue doc = minimalDocument();
     doc[c.key] = c.value;
     EXPECT_EQ(readError(doc).rfind(c.message, 0), 0u) << c.key << ": " << readError(doc);
   }
-  nlohmann::json limit = minimalDocument();
-  limit["limits"] = {{"max_load_n", -1}};
+  XmlRpc::XmlRpcValue limit = minimalDocument();
+  limit["limits"]["max_load_n"] = -1;
   EXPECT_EQ(readError(limit).rfind("limits/max_load_n = -1: must be finite and > 0", 0), 0u) << readError(limit);
-  nlohmann::json missing = minimalDocument();
-  missing.erase("wheels");
+  XmlRpc::XmlRpcValue missing;
+  missing["update_rate_hz"] = 50.0;
   EXPECT_EQ(readError(missing), "wheels = (missing): must be a list of wheels");
-  nlohmann::json twice = minimalDocument();
-  twice["wheels"].push_back(twice["wheels"][0]);
+  XmlRpc::XmlRpcValue twice = minimalDocument();
+  const XmlRpc::XmlRpcValue first = twice["wheels"][0];  // a copy: growing the list moves its elements
+  twice["wheels"][1] = first;
   EXPECT_EQ(readError(twice), "wheels[].name = a: must be unique");
-  nlohmann::json long_id = minimalDocument();
+  XmlRpc::XmlRpcValue long_id = minimalDocument();
   long_id["wheels"][0]["tire_id"] = std::string(64, 'x');
   EXPECT_NE(readError(long_id).find("wheels[a].tire_id"), std::string::npos);
-  nlohmann::json no_tire = minimalDocument();
-  no_tire["wheels"][0].erase("tire_params");
+  XmlRpc::XmlRpcValue no_tire;
+  no_tire["wheels"][0]["name"] = "a";
   EXPECT_EQ(readError(no_tire), "wheels[0].tire_params = (missing): must be given");
-  nlohmann::json position = minimalDocument();
-  position["wheels"][0]["position_m"] = {1, 2};
-  EXPECT_EQ(readError(position).rfind("wheels[0].position_m = [1,2]: must be a list of three numbers", 0), 0u);
+  XmlRpc::XmlRpcValue position = minimalDocument();
+  position["wheels"][0]["position_m"] = pair;
+  EXPECT_EQ(readError(position).rfind("wheels[0].position_m = [1, 2]: must be a list of three numbers", 0), 0u);
 }
 
 TEST(NodeConfig, AFileErrorNamesTheFile) {

@@ -4,22 +4,33 @@
 /// validation for both of its users. tread_wear_node gets the document from the parameter server (the launch file
 /// loads the YAML into its private namespace; src/ros/node_config.cpp turns that tree into JSON) and
 /// tread_wear_replay from the file (loadNodeConfigFile); both call readNodeConfig(), so a key, its default and its
-/// constraint cannot differ between the live node and the offline replay.
-///
-/// The document is a JSON value because it is the one tree type both sources map onto without loss: numbers
-/// (integer or real), strings, booleans, lists and maps. ROS-free.
+/// constraint cannot differ between the live node and the offline replay. ROS-free.
 
 #include <array>
 #include <cstddef>
+#include <map>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "tread_wear/estimation/wheel_estimator.h"
 #include "tread_wear/model/wear_model.h"
 
 namespace tread_wear {
+
+/// A configuration document as both sources deliver it (a YAML file, the parameter server's XML-RPC tree): null,
+/// boolean, number, string, list or map. Integers and reals are both numbers [in the key's unit].
+struct ConfigValue {
+  enum class Type { kNull, kBool, kNumber, kString, kList, kMap };
+  Type type = Type::kNull;
+  bool boolean = false;
+  double number = 0.0;
+  std::string string;
+  std::vector<ConfigValue> list;
+  std::map<std::string, ConfigValue> map;
+
+  /// The value as a message shows it: strings quoted, lists [a, b], maps {key: value}.
+  std::string text() const;
+};
 
 /// Longest tire id [characters]: the node's real-time loop copies it into preallocated message strings.
 constexpr std::size_t kMaxTireIdLength = 63;
@@ -58,7 +69,7 @@ struct NodeConfig {
 /// Reads a wheel configuration document (a map of the keys of docs/node.md). Absent keys keep NodeConfig's
 /// defaults; config_dir defaults to default_config_dir. Relative tire_params are joined to config_dir. Validates.
 /// false with *error naming the key, the value and the broken constraint (wrong type, unknown name, invalid value).
-bool readNodeConfig(const nlohmann::json& document, const std::string& default_config_dir, NodeConfig* config,
+bool readNodeConfig(const ConfigValue& document, const std::string& default_config_dir, NodeConfig* config,
                     std::string* error);
 
 /// Reads a YAML wheel configuration file through readNodeConfig(); config_dir defaults to the file's directory.

@@ -9,15 +9,13 @@
 
 #include <string>
 
-#include <nlohmann/json.hpp>
-
 #include "tread_wear/io/wheel_config.h"
 
 namespace tread_wear {
 
-/// A parameter-server value as the JSON tree readNodeConfig() reads (int, double, bool, string, list, map; any
-/// other XML-RPC type as its XML text, which no key accepts).
-nlohmann::json parameterTree(XmlRpc::XmlRpcValue& value);
+/// A parameter-server value as the tree readNodeConfig() reads (int and double are numbers; any XML-RPC type
+/// without a counterpart, date or binary, becomes its XML text, a string that no numeric key accepts).
+ConfigValue parameterTree(XmlRpc::XmlRpcValue& value);
 
 /// Reads the configuration from a private NodeHandle's namespace; false with *error naming the key on a bad or
 /// missing value. Relative tire_params start at the working directory unless config_dir is set.
