@@ -184,6 +184,8 @@ class BrushWearModel {
 
   /// Evaluates one steady operating point. The point must satisfy OperatingPoint::validate() and
   /// have speed_mps > 0 (then V_r > 0 too). Writes into caller-owned storage; allocates nothing.
+  /// The paper's steps: footprint and pressure (ContactPatch, Eqs 6-9); the element march from the leading
+  /// to the trailing edge (Eqs 12-18, brush_march.h), adding up forces, moment and wear (Eqs 19-20, 25).
   /// @param[in] op operating point
   /// @param[out] result global outputs
   /// @param[out] fields optional local fields, pre-sized with fields->resize(nodesX(), strips())
