@@ -1,7 +1,12 @@
 #include "tread_wear/io/replay_summary_json.h"
 
+#include <nlohmann/json.hpp>
+
 namespace tread_wear {
 
+namespace {
+
+/// The summary without what only the tool knows (ReplayRun).
 nlohmann::json replaySummaryToJson(const ReplaySummary& summary, const ReplaySettings& settings) {
   using nlohmann::json;
   json j;
@@ -63,6 +68,26 @@ nlohmann::json replaySummaryToJson(const ReplaySummary& summary, const ReplaySet
   j["phases"] = phases;
   j["phase_time_offset_s"] = summary.phase_time_offset_s;
   return j;
+}
+
+}  // namespace
+
+std::string replaySummaryDocument(const ReplaySummary& summary, const ReplaySettings& settings, const ReplayRun& run) {
+  nlohmann::json j = replaySummaryToJson(summary, settings);
+  j["input"] = run.input;
+  j["bag_read_s"] = run.bag_read_s;
+  j["compute_cpu_s"] = run.compute_cpu_s;
+  if (!run.drive_info.empty()) j["drive"] = nlohmann::json::parse(run.drive_info);
+  return j.dump(2) + "\n";
+}
+
+std::string incompleteReplaySummary(const std::string& input, const std::string& reason) {
+  const nlohmann::json j = {{"format", "tread_wear_replay_summary"},
+                            {"version", 1},
+                            {"complete", false},
+                            {"incomplete_reason", reason},
+                            {"input", input}};
+  return j.dump(2) + "\n";
 }
 
 }  // namespace tread_wear

@@ -74,13 +74,8 @@ DriveInfo readDriveBag(const std::string& path, const ReplayConfig& config, Driv
         const auto text = m.instantiate<std_msgs::String>();
         if (!text) continue;
         try {
-          info.json = nlohmann::json::parse(text->data);
-          info.time_offset_s = info.json.value("time_offset_s", 0.0);
-          for (const auto& p : info.json.value("phases", nlohmann::json::array()))
-            info.phases.push_back(
-                {p.at("name").get<std::string>(), p.at("start_s").get<double>(), p.at("end_s").get<double>()});
-          info.present = true;
-        } catch (const nlohmann::json::exception& e) {
+          info = {parseDriveInfo(text->data), true};
+        } catch (const DriveInfoError& e) {
           throw BagError(path + ": " + kDriveInfoTopic + " is not valid drive metadata: " + e.what());
         }
       }

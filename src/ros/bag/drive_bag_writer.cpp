@@ -5,41 +5,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 
 #include "tread_wear/WheelLoad.h"
 #include "tread_wear/WheelSlip.h"
 #include "tread_wear/WheelSpeed.h"
-#include "tread_wear/io/replay_summary_json.h"  // nlohmann::json, which only io and report include
+#include "tread_wear/io/drive_info_json.h"
 
 namespace tread_wear {
-
-namespace {
-
-/// The vehicle parameters in the drive's metadata, so that a bag tells which car drove it.
-nlohmann::json vehicleJson(const VehicleParams& p) {
-  return {{"name", p.name},
-          {"mass_kg", p.mass_kg},
-          {"wheelbase_m", p.wheelbase_m},
-          {"cog_to_front_axle_m", p.cog_to_front_axle_m},
-          {"cog_height_m", p.cog_height_m},
-          {"track_front_m", p.track_front_m},
-          {"track_rear_m", p.track_rear_m},
-          {"front_roll_stiffness_share", p.front_roll_stiffness_share},
-          {"drive_layout", driveLayoutName(p.drive_layout)},
-          {"all_wheel_front_drive_share", p.all_wheel_front_drive_share},
-          {"brake_balance_front", p.brake_balance_front},
-          {"drag_coefficient", p.drag_coefficient},
-          {"frontal_area_m2", p.frontal_area_m2},
-          {"air_density_kg_per_m3", p.air_density_kg_per_m3},
-          {"rolling_resistance_coefficient", p.rolling_resistance_coefficient},
-          {"cornering_stiffness_front_per_rad", p.cornering_stiffness_front_per_rad},
-          {"cornering_stiffness_rear_per_rad", p.cornering_stiffness_rear_per_rad},
-          {"longitudinal_slip_stiffness", p.longitudinal_slip_stiffness},
-          {"gravity_mps2", p.gravity_mps2}};
-}
-
-}  // namespace
 
 DriveStats writeDriveBag(const std::string& path, const SpeedProfile& profile, const Route& route,
                          const VehicleModel& vehicle, const RouteParams& route_params, const DriveOptions& options) {
@@ -88,28 +60,10 @@ DriveStats writeDriveBag(const std::string& path, const SpeedProfile& profile, c
   stats.duration_s = profile.duration_s();
   stats.distance_m = profile.totalDistance_m();
 
-  nlohmann::json info;
-  info["format"] = "tread_wear_drive";
-  info["version"] = 1;
-  info["profile"] = profile.name();
-  info["rate_hz"] = options.rate_hz;
-  info["time_offset_s"] = kDriveTimeOffset_s - profile.startTime_s();
-  info["duration_s"] = stats.duration_s;
-  info["distance_m"] = stats.distance_m;
-  info["wheels"] = options.wheel_names;
-  nlohmann::json phases = nlohmann::json::array();
-  for (const ProfilePhase& p : profile.phases())
-    phases.push_back({{"name", p.name}, {"start_s", p.start_s}, {"end_s", p.end_s}});
-  info["phases"] = phases;
-  info["vehicle"] = vehicleJson(vehicle.params());
-  std::map<std::string, int> event_counts;
-  for (const RouteEvent& e : route.events()) ++event_counts[routeEventKindName(e.kind)];
-  info["route"] = {{"lateral_accel_limit_mps2", route_params.lateral_accel_limit_mps2},
-                   {"seed", route_params.seed},
-                   {"events", event_counts},
-                   {"max_abs_lateral_accel_mps2", stats.max_abs_lateral_accel_mps2}};
   std_msgs::String text;
-  text.data = info.dump(2);
+  text.data = driveInfoJson(profile, route, route_params, vehicle.params(),
+                            {options.rate_hz, options.wheel_names, kDriveTimeOffset_s - profile.startTime_s(),
+                             stats.max_abs_lateral_accel_mps2});
   bag.write(kDriveInfoTopic, ros::Time(kDriveTimeOffset_s), text);
   bag.close();
   return stats;

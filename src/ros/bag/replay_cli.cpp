@@ -76,22 +76,13 @@ bool replayOptions(const CommandLine& args, const std::string& share_dir, Replay
 }
 
 /// Writes the summary through a temporary file, so that a reader never sees half a summary; nothing without a path.
-void writeSummary(const std::string& path, const nlohmann::json& summary) {
+void writeSummary(const std::string& path, const std::string& summary) {
   if (path.empty()) return;
   std::ofstream out(path + ".tmp");
-  out << summary.dump(2) << "\n";
+  out << summary;
   out.close();
   if (!out || std::rename((path + ".tmp").c_str(), path.c_str()) != 0)
     throw std::runtime_error(path + ": cannot write the summary");
-}
-
-/// The summary of a replay that failed or has not finished (yet), so that no earlier summary looks complete.
-nlohmann::json incompleteSummary(const std::string& in, const std::string& reason) {
-  return {{"format", "tread_wear_replay_summary"},
-          {"version", 1},
-          {"complete", false},
-          {"incomplete_reason", reason},
-          {"input", in}};
 }
 
 /// Per-window means for plots: speed, wear rate (loss difference over the window), loss, slide fraction.
@@ -168,7 +159,7 @@ void runWithProgress(DriveReplay* replay, bool quiet, std::ostream& err, bool er
 
 /// The replay of o.in with every output; returns 0 or kExitIncompleteReplay. @throw std::exception on bad data
 int replay(const ReplayOptions& o, std::ostream& out, std::ostream& err, bool err_is_terminal) {
-  writeSummary(o.summary_path, incompleteSummary(o.in, "replay did not finish"));
+  writeSummary(o.summary_path, incompleteReplaySummary(o.in, "replay did not finish"));
   ros::Time::init();
   ReplayConfig config = loadReplayConfig(o.wheels_path);
   if (o.rate_hz > 0.0) config.settings.update_rate_hz = o.rate_hz;
@@ -184,11 +175,6 @@ int replay(const ReplayOptions& o, std::ostream& out, std::ostream& err, bool er
   const double cpu_s = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
 
   const ReplaySummary summary = replay.summarize(info.phases, info.time_offset_s);
-  nlohmann::json json = replaySummaryToJson(summary, config.settings);
-  json["input"] = o.in;
-  json["bag_read_s"] = read_s;
-  json["compute_cpu_s"] = cpu_s;  // CPU time of all replay threads: load-independent cost measure
-  if (info.present) json["drive"] = info.json;
   if (!o.out.empty()) {
     const double rate = config.settings.update_rate_hz;
     const auto decimation =
@@ -200,7 +186,7 @@ int replay(const ReplayOptions& o, std::ostream& out, std::ostream& err, bool er
         static_cast<std::uint64_t>(std::llround(std::max(1.0, config.settings.update_rate_hz / o.timeseries_rate_hz)));
     writeTimeseries(o.timeseries_path, replay, window, info.time_offset_s);
   }
-  writeSummary(o.summary_path, json);
+  writeSummary(o.summary_path, replaySummaryDocument(summary, config.settings, {o.in, read_s, cpu_s, info.text}));
   const double span_s = summary.end_s - summary.start_s;
   out << formatted("%s: %.0f s replayed in %.2f s (%.0fx real time, preset %s, %g Hz, %zu wheels)%s\n", o.in.c_str(),
                    span_s, summary.wall_time_s, summary.wall_time_s > 0 ? span_s / summary.wall_time_s : 0.0,
@@ -240,7 +226,7 @@ int runReplayCli(int argc, const char* const argv[], const std::string& share_di
   } catch (const std::exception& e) {
     err << "tread_wear_replay: " << e.what() << "\n";
     try {
-      writeSummary(options.summary_path, incompleteSummary(options.in, e.what()));
+      writeSummary(options.summary_path, incompleteReplaySummary(options.in, e.what()));
     } catch (const std::exception&) {  // the error above is what the user must see; exit code says it failed
     }
     return kExitData;

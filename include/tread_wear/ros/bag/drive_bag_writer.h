@@ -14,7 +14,7 @@
 
 namespace tread_wear {
 
-/// Topic of the drive's metadata (std_msgs/String, JSON: profile, phases, vehicle, route, time offset).
+/// Topic of the drive's metadata (std_msgs/String, the JSON document of io/drive_info_json.h).
 constexpr const char* kDriveInfoTopic = "/drive/info";
 /// Bag time of drive time 0 [s]: ros::Time(0) means "unset" to ROS, so drives start later.
 constexpr double kDriveTimeOffset_s = 1000.0;
