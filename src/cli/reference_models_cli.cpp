@@ -1,10 +1,8 @@
 #include "tread_wear/cli/reference_models_cli.h"
 
 #include <cmath>
-#include <cstdio>
 #include <fstream>
 #include <limits>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -16,7 +14,7 @@
 #include "tread_wear/io/params_io.h"
 #include "tread_wear/io/run_table.h"
 #include "tread_wear/model/wear_model.h"
-#include "tread_wear/report/calibration_report.h"  // nlohmann::json, which only io and report include
+#include "tread_wear/report/reference_models_report.h"
 
 namespace tread_wear {
 namespace {
@@ -54,10 +52,9 @@ int runReferenceModelsCli(int argc, const char* const argv[], std::ostream& out,
     bool temperatures = true;
     for (const RunRecord& r : runs.runs) temperatures = temperatures && std::isfinite(r.op.tread_temperature_c);
 
-    nlohmann::json j;
-    j["orientation"] = orientationName(opt_options.orientation);
-    j["side_force_input"] = "measured mean side force per run (one Eq 23 bin; the paper bins recorded samples)";
-    j["temperatures_available"] = temperatures;
+    Table5 table;
+    table.orientation = orientationName(opt_options.orientation);
+    table.temperatures_available = temperatures;
     const CalibrationResult opt = calibrate(params, runs, opt_options);
     const double opt_rmser = opt.fitted.rmser_wear, opt_cv = opt.cross_validated.rmser_wear;
     // Paper Table 5 (RMSE in 1e-2 g/km, ERI); the paper's Opt RMSER is 8.32% (Section 4.2).
@@ -70,40 +67,18 @@ int runReferenceModelsCli(int argc, const char* const argv[], std::ostream& out,
                               {"M_EP", 1.11, 1.48, 7.22, 0.11, 5.74, 1.59},
                               {"M_PT", 1.14, 1.14, 3.73, 3.82, 6.07, 1.94},
                               {"M_EPT", 0.90, 1.27, 6.56, 5.71, 5.64, 1.60}};
-    std::ostringstream md;
-    md << "| model | source | w1 | w2 | w3 [1e-2 mg/s] | w4 [1e-2 mg/s] | RMSE [1e-2 g/km] | RMSER | ERI | "
-          "LOO RMSER | LOO ERI |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
-    char line[512];
-    auto row = [&](const std::string& model, const std::string& source, double w1, double w2, double w3, double w4,
-                   double rmse_g, double r, double eri, double cv, double cv_eri) {
-      auto f = [](double v, const char* fmt) {
-        if (!std::isfinite(v)) return std::string("-");
-        char b[64];
-        std::snprintf(b, sizeof b, fmt, v);
-        return std::string(b);
-      };
-      std::snprintf(line, sizeof line, "| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", model.c_str(),
-                    source.c_str(), f(w1, "%.3f").c_str(), f(w2, "%.3f").c_str(), f(w3, "%.4g").c_str(),
-                    f(w4, "%.4g").c_str(), f(rmse_g, "%.2f").c_str(), f(100 * r, "%.2f%%").c_str(),
-                    f(eri, "%.2f").c_str(), f(100 * cv, "%.2f%%").c_str(), f(cv_eri, "%.2f").c_str());
-      md << line;
-      j["rows"].push_back({{"model", model}, {"source", source}, {"w1", w1}, {"w2", w2}, {"w3_1e-2", w3},
-                           {"w4_1e-2", w4}, {"rmse_1e-2_g_per_km", rmse_g},
-                           {"rmser", std::isfinite(r) ? nlohmann::json(r) : nlohmann::json(nullptr)},
-                           {"eri", std::isfinite(eri) ? nlohmann::json(eri) : nlohmann::json(nullptr)},
-                           {"cv_rmser", std::isfinite(cv) ? nlohmann::json(cv) : nlohmann::json(nullptr)},
-                           {"cv_eri", std::isfinite(cv_eri) ? nlohmann::json(cv_eri) : nlohmann::json(nullptr)}});
-    };
     const double nan = std::numeric_limits<double>::quiet_NaN();
     auto paperRow = [&](const PaperRow& p) {
-      row(p.name, "paper Table 5", p.w1, p.w2, p.w3, p.w4, p.rmse, p.eri * 0.0832, p.eri, nan, nan);
+      table.rows.push_back({p.name, "paper Table 5", p.w1, p.w2, p.w3, p.w4, p.rmse, p.eri * 0.0832, p.eri, nan, nan});
     };
     // Opt: w3, w4 per contact area, printed as the paper does (mg/(s mm^2) x 1e2).
     paperRow(paper[0]);
-    row("Opt", "paper parameters on these runs", params.wear.w1, params.wear.w2, params.wear.w3_kg_per_s_m2 * 1e2,
-        params.wear.w4_kg_per_s_m2 * 1e2, opt.initial.rmse_wear_kg_per_m * 1e8, opt.initial.rmser_wear, nan, nan, nan);
-    row("Opt", "fitted here", opt.params.wear.w1, opt.params.wear.w2, opt.params.wear.w3_kg_per_s_m2 * 1e2,
-        opt.params.wear.w4_kg_per_s_m2 * 1e2, opt.fitted.rmse_wear_kg_per_m * 1e8, opt_rmser, 1.0, opt_cv, 1.0);
+    table.rows.push_back({"Opt", "paper parameters on these runs", params.wear.w1, params.wear.w2,
+                          params.wear.w3_kg_per_s_m2 * 1e2, params.wear.w4_kg_per_s_m2 * 1e2,
+                          opt.initial.rmse_wear_kg_per_m * 1e8, opt.initial.rmser_wear, nan, nan, nan});
+    table.rows.push_back({"Opt", "fitted here", opt.params.wear.w1, opt.params.wear.w2,
+                          opt.params.wear.w3_kg_per_s_m2 * 1e2, opt.params.wear.w4_kg_per_s_m2 * 1e2,
+                          opt.fitted.rmse_wear_kg_per_m * 1e8, opt_rmser, 1.0, opt_cv, 1.0});
     std::vector<ReferenceModelKind> kinds = {ReferenceModelKind::kP, ReferenceModelKind::kEP};
     if (temperatures) kinds.insert(kinds.end(), {ReferenceModelKind::kPT, ReferenceModelKind::kEPT});
     for (ReferenceModelKind kind : kinds) {
@@ -118,25 +93,20 @@ int runReferenceModelsCli(int argc, const char* const argv[], std::ostream& out,
                                                     r.op.tread_temperature_c));
         }
       const double paper_params_rmser = rmser(measured, predicted);
-      row(referenceModelName(kind), "paper parameters on these runs", law.w1, law.w2, law.w3_kg_per_s * 1e8,
-          law.w4_kg_per_s * 1e8, rmse(measured, predicted) * 1e8, paper_params_rmser,
-          paper_params_rmser / opt.initial.rmser_wear, nan, nan);
+      table.rows.push_back({referenceModelName(kind), "paper parameters on these runs", law.w1, law.w2,
+                            law.w3_kg_per_s * 1e8, law.w4_kg_per_s * 1e8, rmse(measured, predicted) * 1e8,
+                            paper_params_rmser, paper_params_rmser / opt.initial.rmser_wear, nan, nan});
       const ReferenceFit fit = fitReferenceModel(kind, runs, law);
-      row(referenceModelName(kind), "fitted here", fit.law.w1, fit.law.w2, fit.law.w3_kg_per_s * 1e8,
-          fit.law.w4_kg_per_s * 1e8, fit.rmse_kg_per_m * 1e8, fit.rmser, fit.rmser / opt_rmser, fit.cv_rmser,
-          fit.cv_rmser / opt_cv);
+      table.rows.push_back({referenceModelName(kind), "fitted here", fit.law.w1, fit.law.w2,
+                            fit.law.w3_kg_per_s * 1e8, fit.law.w4_kg_per_s * 1e8, fit.rmse_kg_per_m * 1e8, fit.rmser,
+                            fit.rmser / opt_rmser, fit.cv_rmser, fit.cv_rmser / opt_cv});
     }
-    if (!temperatures)
-      md << "\nOpt_T, M_PT and M_EPT are not fitted: the run table has no tread temperatures (Table 3 has none and "
-            "the paper's Fig 12 temperatures are not tabulated).\n";
-    md << "\nERI = RMSER / RMSER(Opt) of the same row kind (paper rows: the paper's ERI; its RMSER column is ERI x "
-          "8.32%). LOO = leave-one-condition-out. Opt w3, w4 are per contact area (mg/(s mm^2)); the reference "
-          "models' are global (mg/s). Reference models use the measured mean side force per run.\n";
+    const std::string md = table5Markdown(table);
     std::ofstream mdf(dir + "/table5.md"), jf(dir + "/table5.json");
     if (!mdf || !jf) throw std::runtime_error("cannot write into " + dir);
-    mdf << md.str();
-    jf << j.dump(2) << "\n";
-    out << md.str();
+    mdf << md;
+    jf << table5Json(table);
+    out << md;
   } catch (const std::exception& e) {  // a file, row, parameter or fit that cannot be used
     err << "error: " << e.what() << "\n";
     return kExitData;
