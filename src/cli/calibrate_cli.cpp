@@ -105,9 +105,7 @@ int runCalibrateCli(int argc, const char* const argv[], std::ostream& out, std::
       err << "error: cannot write " << args.get("json") << "\n";
       return kExitData;
     }
-    nlohmann::json summary = calibrationToJson(result);
-    summary["data_warnings"] = warnings;
-    json << summary.dump(2) << "\n";
+    json << calibrationJson(result, warnings);
     if (args.has("out-params")) {
       std::ostringstream comment;
       comment << "Calibrated by tread_wear_calibrate: fit " << args.get("runs") << ", parameters";

@@ -77,10 +77,9 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
     const DiagnosisResult result = diagnose(params, data, opt);
     const std::filesystem::path dir(a.get("report"));
     std::filesystem::create_directories(dir);
-    const nlohmann::json j = diagnosisJson(result, data);
     {
       std::ofstream f(dir / "diagnosis.json");
-      f << j.dump(2) << "\n";
+      f << diagnosisJson(result, data);
       if (!f) throw std::runtime_error("cannot write " + (dir / "diagnosis.json").string());
     }
     {

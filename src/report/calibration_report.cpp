@@ -2,11 +2,13 @@
 
 #include <cmath>
 
+#include <nlohmann/json.hpp>
+
 #include "tread_wear/model/wear_model.h"
 
 namespace tread_wear {
 
-nlohmann::json calibrationToJson(const CalibrationResult& result) {
+std::string calibrationJson(const CalibrationResult& result, const std::vector<std::string>& data_warnings) {
   using nlohmann::json;
   auto num = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
   const LeastSquaresSummary& s = result.summary;
@@ -84,7 +86,8 @@ nlohmann::json calibrationToJson(const CalibrationResult& result) {
                      {"usable", f.usable}, {"values", values}});
   }
   j["folds"] = folds;
-  return j;
+  j["data_warnings"] = data_warnings;
+  return j.dump(2) + "\n";
 }
 
 }  // namespace tread_wear

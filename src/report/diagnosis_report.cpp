@@ -4,6 +4,8 @@
 #include <iomanip>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 namespace tread_wear {
 namespace diagnosis {
 namespace {
@@ -53,9 +55,8 @@ std::string effectText(const LocatedEffect& e) {
   return s.str();
 }
 
-}  // namespace
-
-nlohmann::json diagnosisJson(const DiagnosisResult& r, const DiagnosisData& data) {
+/// The verdict and its evidence (diagnosisJson's document).
+nlohmann::json diagnosisDocument(const DiagnosisResult& r, const DiagnosisData& data) {
   nlohmann::json j;
   j["format"] = "tread_wear diagnosis v1";
   j["mismatch_found"] = r.mismatch_found;
@@ -147,7 +148,8 @@ nlohmann::json diagnosisJson(const DiagnosisResult& r, const DiagnosisData& data
   return j;
 }
 
-nlohmann::json detectabilityJson(const Detectability& d) {
+/// A detectability reference (answerJson's "detectability").
+nlohmann::json detectabilityDocument(const Detectability& d) {
   nlohmann::json j;
   j["lambda"] = d.lambda;
   j["power"] = num(d.power);
@@ -157,6 +159,12 @@ nlohmann::json detectabilityJson(const Detectability& d) {
   for (const ReferenceParameter& p : d.parameters)
     j["parameters"][p.name] = {{"value", p.value}, {"std_error", num(p.std_error)}};
   return j;
+}
+
+}  // namespace
+
+std::string diagnosisJson(const DiagnosisResult& result, const DiagnosisData& data) {
+  return diagnosisDocument(result, data).dump(2) + "\n";
 }
 
 std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& data, const std::string& source,
@@ -294,7 +302,7 @@ std::string residualsCsv(const DiagnosisResult& r, const DiagnosisData& data) {
   return c.str();
 }
 
-nlohmann::json answerJson(const ConcealAnswer& a) {
+std::string answerJson(const ConcealAnswer& a, const Detectability* reference) {
   nlohmann::json j;
   j["effect"] = a.effect;
   j["parameters"] = a.parameters;
@@ -306,7 +314,8 @@ nlohmann::json answerJson(const ConcealAnswer& a) {
   j["wear_noise_rsd"] = a.spec.wear_noise_rsd;
   j["side_force_noise_n"] = a.spec.side_force_noise_n;
   j["seed"] = a.spec.seed;
-  return j;
+  if (reference != nullptr) j["detectability"] = detectabilityDocument(*reference);
+  return j.dump(2) + "\n";
 }
 
 }  // namespace diagnosis

@@ -5,8 +5,7 @@
 /// scripts/plot_diagnosis.py turns it into PNGs). Formats: docs/diagnosis.md.
 
 #include <string>
-
-#include <nlohmann/json.hpp>
+#include <vector>
 
 #include "tread_wear/diagnosis/conceal.h"
 #include "tread_wear/diagnosis/detectability.h"
@@ -15,16 +14,14 @@
 namespace tread_wear {
 namespace diagnosis {
 
-/// The verdict and its evidence as JSON (keys: docs/diagnosis.md).
-nlohmann::json diagnosisJson(const DiagnosisResult& result, const DiagnosisData& data);
+/// diagnosis.json's text: the verdict and its evidence, indented JSON (keys: docs/diagnosis.md).
+std::string diagnosisJson(const DiagnosisResult& result, const DiagnosisData& data);
 /// The human-readable report (Markdown). `plots` lists PNG file names to embed (may be empty).
 std::string diagnosisMarkdown(const DiagnosisResult& result, const DiagnosisData& data, const std::string& source,
                               const std::vector<std::string>& plots);
-/// A detectability reference (detectability.h) as JSON: lambda, power, expected_right, terms_tried, verdicts
-/// (share per verdict) and parameters (value, std_error); NaN as null.
-nlohmann::json detectabilityJson(const Detectability& reference);
-/// The answer as JSON.
-nlohmann::json answerJson(const ConcealAnswer& answer);
+/// The answer file's text (tread_wear_conceal), indented JSON; with a reference, also "detectability": lambda,
+/// power, expected_right, terms_tried, verdicts (share per verdict) and parameters (value, std_error); NaN as null.
+std::string answerJson(const ConcealAnswer& answer, const Detectability* reference);
 /// Per-run residuals before/after and the covariates, as CSV text.
 std::string residualsCsv(const DiagnosisResult& result, const DiagnosisData& data);
 
