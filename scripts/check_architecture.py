@@ -8,7 +8,10 @@ tread_wear_module(<name> MODULES ...)), so the map, the link lines and the inclu
   2. a module includes headers only of itself and of the modules it depends on, directly or through them;
   3. external libraries appear only in the modules that own them (ROS only in ros and ros/bag, yaml-cpp only in
      io, nlohmann_json only in io and report, Ceres only in fitting, SUNDIALS only in reference, Boost.Math only
-     in diagnosis).
+     in diagnosis);
+  4. no back door to yaml-cpp or nlohmann_json: their owners include them in sources only, never in a public
+     header (which would hand the library to every includer), and no file outside the owners uses their
+     namespaces (YAML::, nlohmann::) in code, however the declarations got there.
 Exit code 0 when the code follows the map; otherwise every violation is printed, one per line."""
 import pathlib
 import re
@@ -28,6 +31,9 @@ EXTERNAL_OWNERS = {
     "cvode/": {"reference"}, "nvector/": {"reference"}, "sunlinsol/": {"reference"}, "sunmatrix/": {"reference"},
     "sundials/": {"reference"}, "boost/math": {"diagnosis"},
 }
+# Libraries whose owners keep them out of their public headers, and the namespace that shows a use of each.
+PRIVATE_EXTERNALS = {"yaml-cpp/": "YAML::", "nlohmann/": "nlohmann::"}
+COMMENT = re.compile(r"//[^\n]*|/\*.*?\*/", re.S)
 
 
 def module_map():
@@ -77,11 +83,18 @@ def main():
     files = [p for d in ("src", "include") for p in (ROOT / d).rglob("*") if p.suffix in (".h", ".cpp")]
     for path in files:
         own = module_of(path, modules)
+        rel = path.relative_to(ROOT)
+        text = path.read_text()
+        code = COMMENT.sub("", text)
+        for prefix, token in PRIVATE_EXTERNALS.items():
+            if token in code and own not in EXTERNAL_OWNERS[prefix]:
+                problems.append(f"{rel}: uses {token}, which belongs to "
+                                f"{sorted(EXTERNAL_OWNERS[prefix])} (let them build or parse the document)")
         if own is None:
             continue
         may = closure(modules, own)
-        for target in INCLUDE.findall(path.read_text()):
-            where = f"{path.relative_to(ROOT)}: includes {target}"
+        for target in INCLUDE.findall(text):
+            where = f"{rel}: includes {target}"
             if target.startswith("tread_wear/"):
                 folder = target[len("tread_wear/"):].rsplit("/", 1)[0] if "/" in target[len("tread_wear/"):] else ""
                 if folder in modules and folder not in may:
@@ -90,6 +103,8 @@ def main():
             for prefix, owners in EXTERNAL_OWNERS.items():
                 if target.startswith(prefix) and own not in owners:
                     problems.append(f"{where}, which belongs to {sorted(owners)}")
+                elif target.startswith(prefix) and prefix in PRIVATE_EXTERNALS and rel.parts[0] == "include":
+                    problems.append(f"{where} in a public header, which hands it to every file that includes it")
     for line in problems:
         print(line)
     print(f"check_architecture: {len(modules)} modules, {len(files)} files, {len(problems)} violations")
