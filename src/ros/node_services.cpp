@@ -19,8 +19,7 @@ std::string field(const char* name, double value, const std::string& constraint)
   return std::string(name) + " = " + text(value) + ": must be " + constraint;
 }
 
-}  // namespace
-
+/// Why a hypothetical state was rejected; fault is what WheelInputs returned for the input `kind` of state s.
 std::string describeInputFault(const tread_wear::WheelState& s, InputKind kind, InputFault fault,
                                const InputLimits& limits) {
   switch (fault) {
@@ -60,6 +59,8 @@ std::string describeInputFault(const tread_wear::WheelState& s, InputKind kind, 
   }
   return std::string("rejected: ") + inputFaultName(fault);
 }
+
+}  // namespace
 
 void evaluateWear(const std::vector<std::unique_ptr<WheelPipeline>>& wheels, Preset configured,
                   const tread_wear::EvaluateWear::Request& req, tread_wear::EvaluateWear::Response* res) {

@@ -214,7 +214,6 @@ WheelSnapshot WheelPipeline::snapshot() const {
   s.step_time_s = step_time_s_;
   s.output = estimator_.output();
   s.tire_id = tire_id_;
-  s.reset_unix_s = reset_unix_s_;
   s.backward_jumps = estimator_.backwardJumps();
   s.forward_jumps = estimator_.forwardJumps();
   s.stale_steps = estimator_.staleSteps();

@@ -16,12 +16,8 @@
 
 namespace tread_wear {
 
-/// Why a hypothetical state was rejected: "<field> = <value>: must be <constraint>", the constraint with the
-/// configured limit's key and value. `state` is the rejected one; fault is what WheelInputs returned for `kind`.
-std::string describeInputFault(const tread_wear::WheelState& state, InputKind kind, InputFault fault,
-                               const InputLimits& limits);
-
-/// evaluate_wear for `wheels`; configured = the preset used when the request names none.
+/// evaluate_wear for `wheels`; configured = the preset used when the request names none. A rejected state's error
+/// reads "<field> = <value>: must be <constraint>", the constraint with the configured limit's key and value.
 void evaluateWear(const std::vector<std::unique_ptr<WheelPipeline>>& wheels, Preset configured,
                   const tread_wear::EvaluateWear::Request& request, tread_wear::EvaluateWear::Response* response);
 

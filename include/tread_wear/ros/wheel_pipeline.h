@@ -51,7 +51,6 @@ struct WheelSnapshot {
   double step_time_s = 0.0;    ///< time of the last loop step [s] (node clock)
   WheelOutput output;          ///< output of the last loop step
   std::string tire_id;
-  double reset_unix_s = 0.0;   ///< wall time of the last tire change [s since 1970], 0 = unknown
   std::uint64_t backward_jumps = 0, forward_jumps = 0, stale_steps = 0, evaluations = 0;
   double unaccounted_time_s = 0.0;  ///< elapsed time not integrated [s]
 };
