@@ -33,4 +33,20 @@ tread_wear_add_gtest(test_diagnosis_bag ${PROJECT_SOURCE_DIR}/test/ros/bag/test_
                      ${PROJECT_NAME}_ros_bag ${PROJECT_NAME}_cli)
 target_compile_definitions(test_diagnosis_bag PRIVATE
                            TREAD_WEAR_PYTHON_PATH="${CATKIN_DEVEL_PREFIX}/${CATKIN_GLOBAL_PYTHON_DESTINATION}")
+# The test writes its bag with the example's python script, which imports the generated python messages.
+add_dependencies(test_diagnosis_bag ${PROJECT_NAME}_generate_messages_py)
 include(cmake/rostests.cmake)
+
+# Structure checks, part of the test command so that CI and the README run them with everything else:
+#  - architecture: the code follows the module map of docs/architecture.md (scripts/check_architecture.py);
+#  - catkin_lint: the package files pass catkin_lint (Debian's catkin-lint, installed by scripts/setup.sh) at its
+#    default level; --strict fails on any error or warning, -q prints nothing when clean, and any output fails the
+#    test too (catkin_lint reports a crash of its own and still exits 0).
+add_test(NAME architecture COMMAND ${PYTHON_EXECUTABLE} ${PROJECT_SOURCE_DIR}/scripts/check_architecture.py)
+find_program(TREAD_WEAR_CATKIN_LINT catkin_lint)
+if(TREAD_WEAR_CATKIN_LINT)
+  add_test(NAME catkin_lint COMMAND ${TREAD_WEAR_CATKIN_LINT} --offline -q --strict ${PROJECT_SOURCE_DIR})
+  set_tests_properties(catkin_lint PROPERTIES FAIL_REGULAR_EXPRESSION ".")
+else()
+  message(STATUS "catkin_lint not found: the catkin_lint test is not registered (scripts/setup.sh installs it)")
+endif()

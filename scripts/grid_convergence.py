@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Grid convergence of the brush wear model for one tire file over a drive's operating envelope (docs/drive.md).
 
 Evaluates the envelope (loads, slip angles, slip ratios, speeds; straight and a 12 m junction turn) with

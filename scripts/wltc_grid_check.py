@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Grid convergence of a drive's wear figure: the drive bag's inputs, subsampled, evaluated on finer grids.
 
 Reads every STRIDE-th input sample of each wheel of a drive bag (tread_wear_drive), evaluates the operating points
