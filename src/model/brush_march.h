@@ -238,9 +238,9 @@ inline PackStep<V> packStep(const StepArgs& args, int j) {
   const StepTermLanes* ps = args.per_strip;
   const StepTerms& u = *args.uniform;
   if (!ps) return {V(u.g), V(u.m_over_g), V(u.dx), V(u.dy), V(u.inv_dx), V(u.inv_dy), V(u.w), V(u.c.a1), V(u.c.a2)};
-  return {T::load(ps->g + j),      T::load(ps->m_over_g + j), T::load(ps->dx + j),
-          T::load(ps->dy + j),     T::load(ps->inv_dx + j),   T::load(ps->inv_dy + j),
-          T::load(ps->w + j),      T::load(ps->a1 + j),       T::load(ps->a2 + j)};
+  return {T::load(ps->g + j),  T::load(ps->m_over_g + j), T::load(ps->dx + j),
+          T::load(ps->dy + j), T::load(ps->inv_dx + j),   T::load(ps->inv_dy + j),
+          T::load(ps->w + j),  T::load(ps->a1 + j),       T::load(ps->a2 + j)};
 }
 
 /// What the implicit step of a pack to node i + 1 needs: the pressure and static limit there (Eqs 8, 10-11) and the
@@ -248,14 +248,14 @@ inline PackStep<V> packStep(const StepArgs& args, int j) {
 template <class V>
 struct PackHistory {
   using M = typename LaneTraits<V>::Mask;
-  V p;                    ///< pressure [Pa]
-  V sat_p;                ///< sat(p) p [Pa]
-  V tau_static;           ///< static limit mu_0 sat(p) p [Pa]
-  V dhx, dhy;             ///< BDF2 history of delta [m]
-  V bx, by;               ///< history terms of the implicit update [Pa]
-  V ux, uy;               ///< u at node i [m/s]
-  V z, z_p;               ///< ln|v_s| at nodes i and i - 1 where the element slid there
-  M sliding, sliding_p;   ///< slid with |v_s| > 0 at node i, at node i - 1
+  V p;                   ///< pressure [Pa]
+  V sat_p;               ///< sat(p) p [Pa]
+  V tau_static;          ///< static limit mu_0 sat(p) p [Pa]
+  V dhx, dhy;            ///< BDF2 history of delta [m]
+  V bx, by;              ///< history terms of the implicit update [Pa]
+  V ux, uy;              ///< u at node i [m/s]
+  V z, z_p;              ///< ln|v_s| at nodes i and i - 1 where the element slid there
+  M sliding, sliding_p;  ///< slid with |v_s| > 0 at node i, at node i - 1
 };
 
 /// Loads node i's state of the pack from `from` and moves it to the previous-node slots of `to` (which may be
@@ -297,13 +297,13 @@ inline PackHistory<V> packHistory(const StepArgs& args, int j, const PackStep<V>
 template <class V>
 struct PackNode {
   using M = typename LaneTraits<V>::Mask;
-  V tx, ty;      ///< shear stress tau [Pa]
-  V vsx, vsy;    ///< sliding velocity v_s [m/s]
-  V s, z;        ///< |v_s| [m/s] and ln|v_s| (0 when not sliding)
+  V tx, ty;       ///< shear stress tau [Pa]
+  V vsx, vsy;     ///< sliding velocity v_s [m/s]
+  V s, z;         ///< |v_s| [m/s] and ln|v_s| (0 when not sliding)
   V mup, s_dmup;  ///< mu p and |v_s| d(mu p)/d|v_s| at the last slide root [Pa]
-  V ux, uy;      ///< u [m/s]
-  V dlx, dly;    ///< delta [m]; before the first pass the predictor for the Omega delta coupling
-  M stuck;       ///< exact stick
+  V ux, uy;       ///< u [m/s]
+  V dlx, dly;     ///< delta [m]; before the first pass the predictor for the Omega delta coupling
+  M stuck;        ///< exact stick
 };
 
 /// The stress needed to stick at node i + 1 (trial stress of the return mapping) and its squares [Pa, Pa^2].
@@ -315,8 +315,8 @@ struct TrialStress {
 
 /// Trial stress D o v_r - b with v_r at the tip's position from the deflection n.dlx, n.dly (Eq 14 generalised).
 template <class V>
-inline TrialStress<V> trialStress(const Constants& k, const Node& node, const PackStep<V>& st,
-                                  const PackHistory<V>& h, const V& y, const PackNode<V>& n) {
+inline TrialStress<V> trialStress(const Constants& k, const Node& node, const PackStep<V>& st, const PackHistory<V>& h,
+                                  const V& y, const PackNode<V>& n) {
   const V rx = V(k.vrx0) + V(k.omega) * (y + n.dly), ry = V(k.vry0) - V(k.omega) * (V(node.x) + n.dlx);
   TrialStress<V> t;
   t.tx = st.dx * rx - h.bx;

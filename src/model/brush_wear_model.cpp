@@ -261,8 +261,8 @@ Integrands integrandsOf(const NodeSolution& o, double x, double y_mz, double v_m
 /// evaluate()'s stack (about 140 KB with GridSpec::kMaxStrips strips), so an evaluation allocates nothing.
 /// Its members are defined `inline`: the library is position-independent code, in which GCC does not inline a
 /// function of external linkage (another definition could interpose it), and the per-step helpers must fold into
-/// the x step, and the x step into evaluate()'s loop, as before the split (callgrind: 8% more instructions outside
-/// the SIMD kernel when they did not).
+/// the x step, and the x step into evaluate()'s loop, as before the split (callgrind: up to 20% more instructions
+/// outside the SIMD kernel when they were calls).
 class BrushWearModel::Sweep {
  public:
   /// @param patch footprint and pressure of the operating point (Eqs 6-9); it and the grids xg, yg (the
@@ -319,8 +319,8 @@ class BrushWearModel::Sweep {
   const int max_level_;       ///< finest substep level (2^max_level substeps per step)
   const int initial_budget_;  ///< substep nodes allowed in this evaluation
   const double edge_weight_;  ///< 1/(1 + w1) - 1/2: the edge intervals' wear weight over the trapezoid's [-]
-  const march::Constants constants_;
-  int refinement_budget_;  ///< substep nodes left
+  const march::Constants constants_;  ///< the march's scalars, from the members above (marchConstants)
+  int refinement_budget_;             ///< substep nodes left
   march::StripConstants strips_;
   // Two path states, at node i and at node i + 1, swapped after each x step: a step redone in substeps starts
   // again from node i without a copy. The same for the node solutions, those at node i being the start of the
@@ -331,12 +331,10 @@ class BrushWearModel::Sweep {
   march::NodeLanes node_buffers_[2];
   march::NodeLanes* prev_nodes_ = &node_buffers_[0];
   march::NodeLanes* nodes_ = &node_buffers_[1];
-  // Of a strip whose step was redone in substeps: the last such step and its substep length [x/a]; the number
-  // of strips redone in the previous step; the levels of the current step (0 where it stands).
-  int refined_step_[GridSpec::kMaxStrips];
-  double substep_ds_[GridSpec::kMaxStrips];
-  int level_[GridSpec::kMaxStrips];
-  int n_back_ = 0;
+  int refined_step_[GridSpec::kMaxStrips];  ///< per strip the last step redone in substeps (-2: none)
+  double substep_ds_[GridSpec::kMaxStrips];  ///< per strip the substep length of that step [x/a]
+  int level_[GridSpec::kMaxStrips];         ///< per strip 2^level substeps in the current step, 0 where it stands
+  int n_back_ = 0;                          ///< strips redone in substeps in the previous step
   march::StepTermLanes back_;  ///< per x step: step terms of strips coming back from substeps
   march::PatchSums sums_{};    ///< the packs' sums of the coarse node solutions
   march::RootCounts root_counts_;
