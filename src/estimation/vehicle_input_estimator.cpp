@@ -109,6 +109,9 @@ bool VehicleInputEstimatorParams::validate(std::string* error) const {
     return failValidation(error, "gyro_bias_time_constant_s", gyro_bias_time_constant_s, "finite and > 0");
   if (!nonNegative(load_filter_time_constant_s))
     return failValidation(error, "load_filter_time_constant_s", load_filter_time_constant_s, "finite and >= 0");
+  if (!nonNegative(lateral_complement_time_constant_s))
+    return failValidation(error, "lateral_complement_time_constant_s", lateral_complement_time_constant_s,
+                          "finite and >= 0");
   if (!positive(steering_ratio)) return failValidation(error, "steering_ratio", steering_ratio, "finite and > 0");
   if (!std::isfinite(steering_offset_rad))
     return failValidation(error, "steering_offset_rad", steering_offset_rad, "finite");
@@ -453,7 +456,15 @@ bool VehicleInputEstimator::estimate(double t_s, VehicleInputEstimate* out) {
   const double normal = imu_ok ? m * std::sqrt(std::max(0.0, g * g - b_x * b_x - b_y * b_y)) : m * g;
   const double f_aero = 0.5 * vp.air_density_kg_per_m3 * vp.drag_coefficient * vp.frontal_area_m2 * v_pred * v_pred;
   const double ramp = std::min(1.0, v_pred / kRollingRampSpeed_mps);
-  const double fx_l = f_filtered_[0], fy_l = f_filtered_[1];
+  // Lateral specific force: dynamics from the gyro (v_x r), the slow deviation (bank, bias, dv_y/dt) from the
+  // accelerometer: f_y,c = v_x r + LP(f_y - v_x r).
+  const double vx_pred = observer_.state()(0);
+  if (accel_source != AccelSource::kNone) {
+    const double a = lateral_init_ && dt > 0.0 ? lowPassGain(dt, p.lateral_complement_time_constant_s) : 1.0;
+    lateral_deviation_ += a * (f[1] - vx_pred * r - lateral_deviation_);
+    lateral_init_ = true;
+  }
+  const double fx_l = f_filtered_[0], fy_l = vx_pred * r + lateral_deviation_;
   const double dfz_long = (m * fx_l + f_aero) * h / L;
   const double fz_front = normal * l_r / L - dfz_long, fz_rear = normal * l_f / L + dfz_long;
   const double dfz_f = m * fy_l * h * vp.front_roll_stiffness_share / vp.track_front_m;

@@ -382,13 +382,19 @@ TEST(VehicleInputEstimatorAnalytic, FreeRollingGivesZeroSlipRatioAndTheTrueRadiu
   vp.drag_coefficient = 0.0;
   const Trace tr = makeTrace(kManoeuvreStart + 30.0, none, none);
   const RunResult r = run(tr, kManoeuvreStart, vp, SensorSpec(), 8);
+  // Radius: the reference-speed noise (0.03 m/s) averages out over > 1 km (rear wheels: 2e-4). The driven front
+  // wheels carry in addition the uncalibrated accelerometer bias (0.05 m/s^2 along x): it reads as a drive force
+  // m b / 2 = 36 N per front wheel, a slip prior of 36 / (16.4 x 4267 N) = 5.2e-4, which goes one to one into
+  // the learned radius (bias and grade are not separable); 8e-4 = 2e-4 + 5.2e-4 with margin.
   for (int i = 0; i < kWheelCount; ++i) {
-    // Radius: reference-speed noise 0.03 m/s averaged over > 1 km; 2e-4 relative is ~ a tenth of the target.
-    EXPECT_NEAR(r.radii[static_cast<std::size_t>(i)].radius_m / r.true_radius_m, 1.0, 2e-4) << wheelName(i);
+    const double tol = i < kRearLeft ? 8e-4 : 2e-4;
+    EXPECT_NEAR(r.radii[static_cast<std::size_t>(i)].radius_m / r.true_radius_m, 1.0, tol) << wheelName(i);
     EXPECT_TRUE(r.last.wheels[static_cast<std::size_t>(i)].slip_ratio_quality == EstimateQuality::kGood);
   }
-  EXPECT_LE(std::abs(r.slip_ratio.rms()), 5e-4);  // quantisation and radius residual only
-  EXPECT_LE(r.slip_angle.rms(), 0.02);            // straight: only noise
+  EXPECT_LE(std::abs(r.slip_ratio.rms()), 8e-4);  // the radius residual above plus quantisation
+  // Straight: the uncalibrated lateral accelerometer bias (-0.04 m/s^2) reads as a bank that needs a side force:
+  // alpha_r = 0.04 / (9.81 x 12.6) = 3.2e-4 rad = 0.019 deg, plus noise; 0.03 deg bounds it.
+  EXPECT_LE(r.slip_angle.rms(), 0.03);
 }
 
 TEST(VehicleInputEstimatorAnalytic, RollingRadiusPersistsAcrossARestart) {

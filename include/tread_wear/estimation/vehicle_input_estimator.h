@@ -80,7 +80,8 @@ struct VehicleInputEstimatorParams {
   std::array<double, 3> accel_bias_mps2{{0.0, 0.0, 0.0}};    ///< calibrated accelerometer bias, IMU axes [m/s^2]
   std::array<double, 3> gyro_bias_rps{{0.0, 0.0, 0.0}};      ///< initial gyro bias, IMU axes [rad/s]
   double gyro_bias_time_constant_s = 1.0;    ///< averaging time of the gyro bias at standstill [s], > 0
-  double load_filter_time_constant_s = 0.05; ///< low-pass of f_b for loads and the lateral model [s], >= 0
+  double load_filter_time_constant_s = 0.01; ///< low-pass of f_x, f_z for the loads [s], >= 0
+  double lateral_complement_time_constant_s = 0.5;  ///< tau_y of f_y,c = v_x r + LP(f_y - v_x r) [s], >= 0
 
   // steering
   double steering_ratio = 15.0;          ///< i_s, steering-wheel angle per mean front road-wheel angle [-], > 0
@@ -284,6 +285,8 @@ class VehicleInputEstimator {
   std::array<double, 3> gyro_bias_{};
   std::array<double, 3> f_filtered_{};  ///< low-passed body specific force at the CoG [m/s^2]
   bool f_filtered_init_ = false;
+  double lateral_deviation_ = 0.0;  ///< LP(f_y - v_x r) [m/s^2]
+  bool lateral_init_ = false;
   double yaw_rate_prev_ = 0.0, yaw_accel_ = 0.0;
   double standstill_since_s_ = 0.0;
   bool standstill_candidate_ = false;
