@@ -228,33 +228,18 @@ const WheelOutput& WheelEstimator::step(double now_s, const WheelInputs& inputs,
     return output_;
   }
 
-  // Evaluate. A zero load (wheel off the ground) carries no force and wears nothing.
-  double wear_kg_per_s = 0.0;
+  // Evaluate (a zero load, wheel off the ground, carries no force and wears nothing: evaluateInputs).
   const double speed = inputs.speed_mps();
-  WheelStatus eval_status = WheelStatus::kOk;
-  if (inputs.load_n() > 0.0) {
-    OperatingPoint op;
-    op.speed_mps = speed;
-    op.slip_angle_rad = inputs.slipAngle_rad();
-    op.slip_ratio = inputs.slipRatio();
-    op.path_curvature_per_m = inputs.pathCurvature_per_m();
-    op.load_n = inputs.load_n();
-    const WheelInputs::Sample& temp = inputs.sample(InputKind::kTemperature);
-    const bool temp_fresh = temp.valid && std::fabs(now_s - temp.stamp_s) <= params_.stale_timeout_s;
-    op.tread_temperature_c = temp_fresh ? inputs.temperature_c() : std::numeric_limits<double>::quiet_NaN();
-    const EvalStatus es = model.evaluate(op, &output_.result, fields);
-    if (es == EvalStatus::kInvalidInput) {
-      // Unreachable with validated inputs unless limits exceed the model's domain; never integrate it.
-      if (dt > 0.0) unaccounted_s_ += dt;
-      prev_evaluated_ = false;
-      output_.status = WheelStatus::kInvalidInput;
-      return output_;
-    }
-    eval_status = es == EvalStatus::kLowSpeed ? WheelStatus::kLowSpeed : WheelStatus::kOk;
-    wear_kg_per_s = output_.result.wear_rate_kg_per_s;
-  } else {
-    output_.result = WearResult();
+  const EvalStatus es = evaluateInputs(model, inputs, now_s, params_.stale_timeout_s, &output_.result, fields);
+  if (es == EvalStatus::kInvalidInput) {
+    // Unreachable with validated inputs unless limits exceed the model's domain; never integrate it.
+    if (dt > 0.0) unaccounted_s_ += dt;
+    prev_evaluated_ = false;
+    output_.status = WheelStatus::kInvalidInput;
+    return output_;
   }
+  const WheelStatus eval_status = es == EvalStatus::kLowSpeed ? WheelStatus::kLowSpeed : WheelStatus::kOk;
+  const double wear_kg_per_s = output_.result.wear_rate_kg_per_s;
   ++evaluations_;
   output_.evaluated = true;
   output_.preset = model.activePreset();
@@ -275,6 +260,29 @@ const WheelOutput& WheelEstimator::step(double now_s, const WheelInputs& inputs,
   prev_wear_kg_per_s_ = wear_kg_per_s;
   prev_speed_mps_ = speed;
   return output_;
+}
+
+OperatingPoint operatingPoint(const WheelInputs& inputs, double now_s, double stale_timeout_s) {
+  OperatingPoint op;
+  op.speed_mps = inputs.speed_mps();
+  op.slip_angle_rad = inputs.slipAngle_rad();
+  op.slip_ratio = inputs.slipRatio();
+  op.path_curvature_per_m = inputs.pathCurvature_per_m();
+  op.load_n = inputs.load_n();
+  const WheelInputs::Sample& temperature = inputs.sample(InputKind::kTemperature);
+  const bool fresh = temperature.valid && std::fabs(now_s - temperature.stamp_s) <= stale_timeout_s;
+  op.tread_temperature_c = fresh ? inputs.temperature_c() : std::numeric_limits<double>::quiet_NaN();
+  return op;
+}
+
+EvalStatus evaluateInputs(const WearModel& model, const WheelInputs& inputs, double now_s, double stale_timeout_s,
+                          WearResult* result, PatchFields* fields) {
+  if (!(inputs.load_n() > 0.0)) {
+    *result = WearResult();
+    if (fields != nullptr) fields->resize(0, 0);  // no patch; shrinking keeps the capacity (no allocation)
+    return EvalStatus::kOk;
+  }
+  return model.evaluate(operatingPoint(inputs, now_s, stale_timeout_s), result, fields);
 }
 
 }  // namespace tread_wear

@@ -36,29 +36,6 @@ void atomicMax(std::atomic<double>& a, double v) {
 
 }  // namespace
 
-OperatingPoint operatingPoint(const WheelInputs& inputs, double now_s, double stale_timeout_s) {
-  OperatingPoint op;
-  op.speed_mps = inputs.speed_mps();
-  op.slip_angle_rad = inputs.slipAngle_rad();
-  op.slip_ratio = inputs.slipRatio();
-  op.path_curvature_per_m = inputs.pathCurvature_per_m();
-  op.load_n = inputs.load_n();
-  const WheelInputs::Sample& temperature = inputs.sample(InputKind::kTemperature);
-  const bool fresh = temperature.valid && std::fabs(now_s - temperature.stamp_s) <= stale_timeout_s;
-  op.tread_temperature_c = fresh ? inputs.temperature_c() : std::numeric_limits<double>::quiet_NaN();
-  return op;
-}
-
-EvalStatus evaluateInputs(const WearModel& model, const WheelInputs& inputs, double now_s, double stale_timeout_s,
-                          WearResult* result, PatchFields* fields) {
-  if (!(inputs.load_n() > 0.0)) {
-    *result = WearResult();
-    if (fields != nullptr) fields->resize(0, 0);  // no patch; shrinking keeps the capacity (no allocation)
-    return EvalStatus::kOk;
-  }
-  return model.evaluate(operatingPoint(inputs, now_s, stale_timeout_s), result, fields);
-}
-
 std::uint8_t statusCode(WheelStatus status) { return static_cast<std::uint8_t>(status); }
 
 void reserveStrings(tread_wear::WheelWear* m) {

@@ -194,4 +194,15 @@ class WheelEstimator {
   double unaccounted_s_ = 0.0;
 };
 
+/// The operating point of a wheel's inputs at time now_s [s]: load, speed and slips as they are; the tread
+/// temperature when valid and no older than stale_timeout_s [s], else NaN (unknown). WheelEstimator::step(),
+/// the node's planner service and its markers all evaluate this point.
+OperatingPoint operatingPoint(const WheelInputs& inputs, double now_s, double stale_timeout_s);
+
+/// Evaluates a wheel's inputs as the live estimator does: a zero load (wheel off the ground) carries no force and
+/// wears nothing (*result = WearResult(), *fields emptied, kOk); otherwise the model at operatingPoint() (fields, if
+/// given, sized for the preset as WearModel::evaluate() requires). Allocates nothing.
+EvalStatus evaluateInputs(const WearModel& model, const WheelInputs& inputs, double now_s, double stale_timeout_s,
+                          WearResult* result, PatchFields* fields = nullptr);
+
 }  // namespace tread_wear

@@ -27,17 +27,6 @@
 
 namespace tread_wear {
 
-/// The operating point of a wheel's inputs at time now_s [s]: load, speed and slips as they are; the tread
-/// temperature when valid and no older than stale_timeout_s [s], else NaN (unknown). The service, the markers
-/// and WheelEstimator::step() (which builds the same point inside the estimation module) evaluate this point.
-OperatingPoint operatingPoint(const WheelInputs& inputs, double now_s, double stale_timeout_s);
-
-/// Evaluates a wheel's inputs as the live estimator does: a zero load (wheel off the ground) carries no force and
-/// wears nothing (*result = WearResult(), *fields emptied, kOk); otherwise the model at operatingPoint() (fields, if
-/// given, sized for the preset as WearModel::evaluate() requires). Allocates nothing.
-EvalStatus evaluateInputs(const WearModel& model, const WheelInputs& inputs, double now_s, double stale_timeout_s,
-                          WearResult* result, PatchFields* fields = nullptr);
-
 /// The status code of WheelWear.status and WheelWearRate.status (one enumeration, the values of WheelStatus).
 std::uint8_t statusCode(WheelStatus status);
 
