@@ -29,17 +29,21 @@
 ///     uncertainty, larger until the radius has converged), innovation gate chi^2 = wheel_gate;
 ///   - the reference speed: z = v_ref + a_x tau = v_x (v_y^2 neglected), variance speed_sigma^2;
 ///   - the single-track lateral velocity (steady state, linear axle cornering stiffness as vehicle_model.h):
-///     alpha_r = -m f_y l_f / (L c_alpha,r Fz_r),  z = v_y = v_x tan(alpha_r) + r l_r,
+///     alpha_r = -m f_y,c l_f / (L c_alpha,r Fz_r),  z = v_y = v_x tan(alpha_r) + r l_r,
 ///     variance (s_lat,rel |v_x tan alpha_r| + s_lat,0)^2; below min_slip_speed z = r l_r;
 ///   - at standstill (every wheel below standstill_speed for standstill_time): v_x = v_y = 0.
 ///   kappa_prior,i is the slip of the wheel's quasi-steady force demand, exactly as vehicle_model.h:
 ///   F = m f_x + F_aero + f_r N ramp(v), Fx_i = share_i F - f_r Fz_i ramp(v), u = Fx_i / (c_kappa Fz_i) clamped
 ///   to +-0.5, kappa_prior = u / (1 - u).
-/// Loads (quasi-steady transfer of vehicle_model.h, driven by the low-pass filtered body specific force f_b, so a
-///   grade or bank enters through gravity as the IMU measures it):
+/// Specific force for loads and the lateral model: f_x, f_z low-passed (load_filter_time_constant_s); laterally
+///   complementary, f_y,c = v_x r + LP_tau_y(f_y - v_x r): the dynamics from the gyro (less noise, no lag), the slow
+///   deviation (bank, residual bias, steady dv_y/dt) from the accelerometer. Fast dv_y/dt (sideslip transients)
+///   is filtered out of f_y,c: a limit in quick transients of a real car (the quasi-steady truth has none).
+/// Loads (quasi-steady transfer of vehicle_model.h with the specific force for a, so a grade or bank enters
+///   through gravity as the IMU measures it):
 ///   N = m sqrt(g^2 - b_x^2 - b_y^2) = m g cos(grade) cos(bank) (b from the observer; m g without IMU)
 ///   dFz_x = (m f_x + F_aero) h / L,  Fz_f = N l_r / L - dFz_x,  Fz_r = N l_f / L + dFz_x
-///   dFz_f = m f_y h lambda_f / t_f,  dFz_r = m f_y h (1 - lambda_f) / t_r,  outer wheels gain, each clamped >= 0.
+///   dFz_f = m f_y,c h lambda_f / t_f,  dFz_r = m f_y,c h (1 - lambda_f) / t_r,  outer wheels gain, each clamped >= 0.
 /// Slip angle  alpha_i = atan2(v_y + r x_i, v_x - r y_i) - delta_i  (x_i = l_f or -l_r, y_i = +-t/2)
 /// Wheel speed V_i = |(v_x - r y_i, v_y + r x_i)|, wheel path curvature r / V_i, CoG curvature r / |v|.
 /// Slip ratio  kappa_i = omega_i R_e,i / (V_i cos alpha_i) - 1.
@@ -49,9 +53,9 @@
 /// Fallbacks (named in the output; a quantity without a source is NaN with quality kInvalid, never a silent zero):
 ///   yaw rate       gyro -> rear-wheel speed difference (V_RR - V_RL)/t_r -> steady single track from steering
 ///                  r = v delta / (L + K_us v^2) -> none
-///   specific force IMU -> derivative of the wheel/reference speed and f_y = v r on a flat road (loads degraded)
+///   specific force IMU -> derivative of the wheel/reference speed and f_y = v_x r on a flat road (loads degraded)
 ///   speed          wheels (+ IMU) -> reference speed -> IMU dead reckoning for max_dead_reckoning_s -> none
-///   steering       measured -> front slip angles from the single-track model alpha_f = -m f_y l_r/(L c_f Fz_f)
+///   steering       measured -> front slip angles from the single-track model alpha_f = -m f_y,c l_r/(L c_f Fz_f)
 ///   slip ratio     needs the wheel's own speed; degraded while its radius has not converged.
 /// Below min_slip_speed a slip angle / slip ratio is undefined: value 0 with quality kLowSpeed.
 /// Assumptions and limits: rigid body, quasi-steady load transfer (no pitch/roll dynamics, no roll-centre
