@@ -44,10 +44,10 @@ WHEEL_JOINTS = ["wheel_front_left_joint", "wheel_front_right_joint", "wheel_rear
                 "wheel_rear_right_joint"]
 STEERING_JOINT = "steering_wheel_joint"
 FRD_TO_FLU = np.diag([1.0, -1.0, -1.0])  # (forward, right, down) -> (forward, left, up)
-# Phone on the windscreen behind the mirror, relative to base_link (taken here as the CoG projected on the ground):
+# Phone on the windscreen behind the mirror, relative to base_link = the CoG (as the estimator reads the tf):
 # an estimate from the RAV4's geometry (front axle 1.09 m ahead of the CoG, windscreen base about 0.4 m behind it,
-# mirror about 1.35 m above the road). The estimator uses it only for the lever-arm terms, which are small here.
-IMU_POSITION_ESTIMATE_M = (0.70, 0.0, 1.35)
+# mirror about 1.35 m above the road, CoG 0.62 m). Used only for the lever-arm terms, which are small here.
+IMU_POSITION_ESTIMATE_M = (0.70, 0.0, 0.70)
 
 
 def odometry_class():
