@@ -1,5 +1,6 @@
 # Offline command-line tools: src/tools/<name>_main.cpp -> tread_wear_<name>, mains of a few lines over the cli
-# module; the rosbag tools (drive, replay) and tread_wear_diagnose's --bag also link the ros/bag module.
+# module; the rosbag tools (drive, replay, vehicle_inputs) and tread_wear_diagnose's --bag also link the ros/bag
+# module.
 file(GLOB TREAD_WEAR_TOOL_MAINS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/tools/*_main.cpp)
 foreach(main ${TREAD_WEAR_TOOL_MAINS})
   get_filename_component(name ${main} NAME_WE)
@@ -8,13 +9,14 @@ foreach(main ${TREAD_WEAR_TOOL_MAINS})
   target_link_libraries(${PROJECT_NAME}_${name} ${PROJECT_NAME}_cli)
   install(TARGETS ${PROJECT_NAME}_${name} RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 endforeach()
-foreach(tool drive replay diagnose)
+foreach(tool drive replay diagnose vehicle_inputs)
   target_link_libraries(${PROJECT_NAME}_${tool} ${PROJECT_NAME}_ros_bag)
 endforeach()
 target_compile_definitions(${PROJECT_NAME}_diagnose PRIVATE
                            TREAD_WEAR_PLOT_SCRIPT="${PROJECT_SOURCE_DIR}/scripts/plot_diagnosis.py")
 target_compile_definitions(${PROJECT_NAME}_drive PRIVATE TREAD_WEAR_SHARE_DIR="${PROJECT_SOURCE_DIR}")
 target_compile_definitions(${PROJECT_NAME}_replay PRIVATE TREAD_WEAR_SHARE_DIR="${PROJECT_SOURCE_DIR}")
+target_compile_definitions(${PROJECT_NAME}_vehicle_inputs PRIVATE TREAD_WEAR_SHARE_DIR="${PROJECT_SOURCE_DIR}")
 
 # Python tools, installed next to the C++ ones (rosrun tread_wear <name>.py; catkin_install_python points their first
 # line at catkin's python): the synthetic input publisher, the plots of the tools' outputs and the grid checks (which

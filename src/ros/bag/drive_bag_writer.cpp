@@ -1,6 +1,9 @@
 #include "tread_wear/ros/bag/drive_bag_writer.h"
 
+#include <nav_msgs/Odometry.h>
 #include <rosbag/bag.h>
+#include <sensor_msgs/Imu.h>
+#include <sensor_msgs/JointState.h>
 #include <std_msgs/String.h>
 
 #include <algorithm>
@@ -10,13 +13,105 @@
 #include "tread_wear/WheelSlip.h"
 #include "tread_wear/WheelSpeed.h"
 #include "tread_wear/io/drive_info_json.h"
+#include "tf_static_message.h"
 
 namespace tread_wear {
+namespace {
+
+/// Sample count of a rate over the profile (as the truth topics: both ends included).
+std::size_t sampleCount(const SpeedProfile& profile, double rate_hz) {
+  return static_cast<std::size_t>(std::floor(profile.duration_s() * rate_hz + 1e-9)) + 1;
+}
+
+void writeSensorTopics(rosbag::Bag* bag, const SpeedProfile& profile, const Route& route, const VehicleModel& vehicle,
+                       const SensorModelParams& params) {
+  SensorModel sensors(params, vehicle.params().gravity_mps2);
+  const double t0 = profile.startTime_s();
+  auto motionAt = [&](double t) {
+    return VehicleMotion{profile.speed(t), profile.acceleration(t), route.curvature(profile.distance(t))};
+  };
+  VehicleState state;
+
+  TfStaticMessage tf;
+  tf.transforms.resize(1);
+  geometry_msgs::TransformStamped& mount = tf.transforms[0];
+  mount.header.stamp = ros::Time(kDriveTimeOffset_s);
+  mount.header.frame_id = kBaseFrame;
+  mount.child_frame_id = kImuFrame;
+  const std::array<double, 4> q = SensorModel::quaternion(params.imu_mount_rpy_rad);
+  mount.transform.rotation.x = q[0];
+  mount.transform.rotation.y = q[1];
+  mount.transform.rotation.z = q[2];
+  mount.transform.rotation.w = q[3];
+  bag->write(kTfStaticTopic, ros::Time(kDriveTimeOffset_s), tf);
+
+  sensor_msgs::Imu imu;
+  imu.header.frame_id = kImuFrame;
+  imu.orientation_covariance[0] = -1.0;  // no orientation estimate
+  const double var_f = std::pow(params.accel_noise_density, 2) * params.imu_rate_hz;
+  const double var_w = std::pow(params.gyro_noise_density, 2) * params.imu_rate_hz;
+  for (int j = 0; j < 3; ++j) {
+    imu.linear_acceleration_covariance[4 * j] = var_f;
+    imu.angular_velocity_covariance[4 * j] = var_w;
+  }
+  const std::size_t n_imu = sampleCount(profile, params.imu_rate_hz);
+  for (std::size_t k = 0; k < n_imu; ++k) {
+    const double t = t0 + static_cast<double>(k) / params.imu_rate_hz;
+    const VehicleMotion motion = motionAt(t);
+    vehicle.evaluate(motion, &state);
+    const ImuReading r = sensors.imu(motion, state);
+    imu.header.stamp = ros::Time(t - t0 + kDriveTimeOffset_s);
+    imu.linear_acceleration.x = r.specific_force_mps2[0];
+    imu.linear_acceleration.y = r.specific_force_mps2[1];
+    imu.linear_acceleration.z = r.specific_force_mps2[2];
+    imu.angular_velocity.x = r.angular_rate_rps[0];
+    imu.angular_velocity.y = r.angular_rate_rps[1];
+    imu.angular_velocity.z = r.angular_rate_rps[2];
+    bag->write(kImuTopic, imu.header.stamp, imu);
+  }
+
+  sensor_msgs::JointState joints;
+  for (const char* name : kJointNames) joints.name.push_back(name);
+  joints.position.assign(kWheelCount + 1, 0.0);
+  joints.velocity.assign(kWheelCount + 1, 0.0);
+  const std::size_t n_wheel = sampleCount(profile, params.wheel_rate_hz);
+  const double dt_wheel = 1.0 / params.wheel_rate_hz;
+  for (std::size_t k = 0; k < n_wheel; ++k) {
+    const double t = t0 + static_cast<double>(k) * dt_wheel;
+    vehicle.evaluate(motionAt(t), &state);
+    const std::array<double, kWheelCount> omega = sensors.wheelSpeeds(state);
+    joints.header.stamp = ros::Time(t - t0 + kDriveTimeOffset_s);
+    for (int i = 0; i < kWheelCount; ++i) {
+      if (k > 0) joints.position[i] += joints.velocity[i] * dt_wheel;  // wheel angle: integral of the signal
+      joints.velocity[i] = omega[static_cast<std::size_t>(i)];
+    }
+    joints.position[kWheelCount] = sensors.steeringWheelAngle(state);
+    bag->write(kJointStatesTopic, joints.header.stamp, joints);
+  }
+
+  nav_msgs::Odometry odom;
+  odom.header.frame_id = kOdometryFrame;
+  odom.child_frame_id = kBaseFrame;
+  odom.pose.pose.orientation.w = 1.0;
+  odom.twist.covariance[0] = params.odometry_noise_mps * params.odometry_noise_mps;
+  const std::size_t n_odom = sampleCount(profile, params.odometry_rate_hz);
+  for (std::size_t k = 0; k < n_odom; ++k) {
+    const double t = t0 + static_cast<double>(k) / params.odometry_rate_hz;
+    odom.header.stamp = ros::Time(t - t0 + kDriveTimeOffset_s);
+    odom.twist.twist.linear.x = sensors.odometrySpeed(motionAt(t));
+    bag->write(kOdometryTopic, ros::Time(t - t0 + kDriveTimeOffset_s + params.odometry_lag_s), odom);
+  }
+}
+
+}  // namespace
 
 DriveStats writeDriveBag(const std::string& path, const SpeedProfile& profile, const Route& route,
                          const VehicleModel& vehicle, const RouteParams& route_params, const DriveOptions& options) {
   if (!(options.rate_hz > 0.0) || options.wheel_names.size() != static_cast<std::size_t>(kWheelCount))
     throw BagError(path + ": drive needs rate_hz > 0 and 4 wheel names");
+  std::string sensor_error;
+  if (options.sensors && !options.sensor_params.validate(&sensor_error))
+    throw BagError(path + ": sensor model: " + sensor_error);
   rosbag::Bag bag;
   try {
     bag.open(path, rosbag::bagmode::Write);
@@ -59,6 +154,7 @@ DriveStats writeDriveBag(const std::string& path, const SpeedProfile& profile, c
   stats.samples = n;
   stats.duration_s = profile.duration_s();
   stats.distance_m = profile.totalDistance_m();
+  if (options.sensors) writeSensorTopics(&bag, profile, route, vehicle, options.sensor_params);
 
   std_msgs::String text;
   text.data = driveInfoJson(profile, route, route_params, vehicle.params(),

@@ -15,12 +15,14 @@ namespace {
 
 const char* const kUsage =
     "usage: tread_wear_drive [--profile SPEED.csv] [--vehicle VEHICLE.yaml] [--rate-hz 50]\n"
-    "                        [--lateral-accel-limit 3.0] [--seed N] --out DRIVE.bag\n"
+    "                        [--lateral-accel-limit 3.0] [--seed N] [--sensors] --out DRIVE.bag\n"
     "  --profile   speed profile CSV (time_s, speed_kmh or speed_mps) [default: data/wltc_class3b.csv]\n"
     "  --vehicle   vehicle parameters [default: config/vehicle_passenger_car.yaml]\n"
     "  --rate-hz   sample rate of every input topic [Hz]\n"
     "  --lateral-accel-limit  a_y limit that sets the route's curve radii [m/s^2]\n"
-    "  --seed      route random stream (deterministic per seed)\n";
+    "  --seed      route random stream (deterministic per seed)\n"
+    "  --sensors   also write what the car's sensors measured on the same drive: imu, joint_states, odom,\n"
+    "              /tf_static (sensor model and its fixed parameters: docs/vehicle_inputs.md)\n";
 
 }  // namespace
 
@@ -33,7 +35,8 @@ int runDriveCli(int argc, const char* const argv[], const std::string& share_dir
   };
   CommandLine args;
   std::string error;
-  if (!args.parse(argc, argv, {"profile", "vehicle", "out", "rate-hz", "lateral-accel-limit", "seed"}, {}, &error))
+  if (!args.parse(argc, argv, {"profile", "vehicle", "out", "rate-hz", "lateral-accel-limit", "seed"}, {"sensors"},
+                  &error))
     return usage_error(error);
   if (args.help()) {
     out << kUsage;
@@ -48,6 +51,7 @@ int runDriveCli(int argc, const char* const argv[], const std::string& share_dir
   if (!(options.rate_hz > 0.0)) return usage_error("--rate-hz must be > 0");
   if (seed < 0) return usage_error("--seed must be >= 0");
   route_params.seed = static_cast<std::uint32_t>(seed);
+  options.sensors = args.has("sensors");
   const std::string profile_path = args.get("profile", share_dir + "/data/wltc_class3b.csv");
   const std::string vehicle_path = args.get("vehicle", share_dir + "/config/vehicle_passenger_car.yaml");
   const std::string bag_path = args.get("out");
@@ -63,6 +67,11 @@ int runDriveCli(int argc, const char* const argv[], const std::string& share_dir
         "%zu curve events, max |a_y| %.2f m/s^2\n",
         bag_path.c_str(), profile.name().c_str(), stats.duration_s, stats.distance_m / 1000.0, stats.samples,
         options.rate_hz, route.events().size(), stats.max_abs_lateral_accel_mps2);
+    if (options.sensors) {
+      const SensorModelParams& s = options.sensor_params;
+      out << formatted("  sensors: imu %g Hz, joint_states %g Hz, odom %g Hz (lag %g s), seed %u\n", s.imu_rate_hz,
+                       s.wheel_rate_hz, s.odometry_rate_hz, s.odometry_lag_s, s.seed);
+    }
   } catch (const std::exception& e) {
     err << "tread_wear_drive: " << e.what() << "\n";
     return kExitData;

@@ -9,6 +9,7 @@
 
 #include "tread_wear/ros/bag/bag_check.h"
 #include "tread_wear/vehicle/route.h"
+#include "tread_wear/vehicle/sensor_model.h"
 #include "tread_wear/vehicle/speed_profile.h"
 #include "tread_wear/vehicle/vehicle_model.h"
 
@@ -23,7 +24,26 @@ constexpr double kDriveTimeOffset_s = 1000.0;
 struct DriveOptions {
   double rate_hz = 50.0;                   ///< sample rate of every input topic [Hz], > 0
   std::vector<std::string> wheel_names;    ///< topic names wheels/<name>/..., in vehicle wheel order (4)
+  bool sensors = false;                    ///< also write the car's sensor topics (writeSensorTopics)
+  SensorModelParams sensor_params;         ///< their sensor model (vehicle/sensor_model.h)
 };
+
+/// Sensor topics of a drive with options.sensors (the contract of the vehicle_inputs front end,
+/// docs/vehicle_inputs.md): sensor_msgs/Imu on kImuTopic (frame kImuFrame), sensor_msgs/JointState on
+/// kJointStatesTopic (wheel velocities [rad/s] and the steering-wheel position [rad] of kJointNames),
+/// nav_msgs/Odometry on kOdometryTopic (twist.twist.linear.x [m/s]; header stamp = measurement time, record time =
+/// stamp + odometry_lag_s), and the mount base_link -> imu_link once on /tf_static. Header stamps are measurement
+/// times, bag time = drive time + kDriveTimeOffset_s as for the truth topics.
+constexpr const char* kImuTopic = "/imu";
+constexpr const char* kJointStatesTopic = "/joint_states";
+constexpr const char* kOdometryTopic = "/odom";
+constexpr const char* kBaseFrame = "base_link";
+constexpr const char* kImuFrame = "imu_link";
+constexpr const char* kOdometryFrame = "odom";
+/// Joint names of joint_states: the four wheels in vehicle order, then the steering wheel.
+constexpr const char* kJointNames[kWheelCount + 1] = {"wheel_front_left_joint", "wheel_front_right_joint",
+                                                      "wheel_rear_left_joint", "wheel_rear_right_joint",
+                                                      "steering_wheel_joint"};
 
 /// Statistics of a written drive.
 struct DriveStats {
@@ -34,7 +54,8 @@ struct DriveStats {
 };
 
 /// Writes the drive: for each of the 4 wheels load, slip and speed at rate_hz, header and record time = drive
-/// time + kDriveTimeOffset_s, plus the metadata on kDriveInfoTopic. @throw BagError when the file cannot be written
+/// time + kDriveTimeOffset_s, plus the metadata on kDriveInfoTopic; with options.sensors also the sensor topics
+/// above (same drive, its own sample rates). @throw BagError when the file cannot be written
 DriveStats writeDriveBag(const std::string& path, const SpeedProfile& profile, const Route& route,
                          const VehicleModel& vehicle, const RouteParams& route_params, const DriveOptions& options);
 

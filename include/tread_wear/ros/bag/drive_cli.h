@@ -9,7 +9,7 @@
 namespace tread_wear {
 
 /// tread_wear_drive [--profile SPEED.csv] [--vehicle VEHICLE.yaml] [--rate-hz HZ] [--lateral-accel-limit A]
-///     [--seed N] --out DRIVE.bag
+///     [--seed N] [--sensors] --out DRIVE.bag
 /// Generates a test drive (speed profile + route + vehicle model; docs/drive.md) as a bag of the node's inputs
 /// (drive_bag_writer.h) and prints its statistics to out. The default profile and vehicle are
 /// `share_dir`/data/wltc_class3b.csv and `share_dir`/config/vehicle_passenger_car.yaml.
