@@ -313,6 +313,16 @@ def main():
     with rosbag.Bag(args.out, "w") as bag:
         for t, topic, m in out:
             bag.write(topic, m, stamp(t))
+    # self-check: the contract's topics, types and counts as written
+    expected = {"imu": ("sensor_msgs/Imu", len(t_acc)), "joint_states": ("sensor_msgs/JointState", len(t_whl)),
+                "odom": ("nav_msgs/Odometry", len(t_spd)), "/tf_static": ("tf2_msgs/TFMessage", 1),
+                "pose_velocity": ("geometry_msgs/TwistStamped", len(t_pos))}
+    with rosbag.Bag(args.out) as bag:
+        info = bag.get_type_and_topic_info().topics
+    for topic, (msg_type, count) in expected.items():
+        if topic not in info or info[topic].msg_type != msg_type or info[topic].message_count != count:
+            sys.exit("comma2k19_to_bag: %s in %s is not %s x %d: %s" % (topic, args.out, msg_type, count,
+                                                                       info.get(topic)))
     print("wrote %s: imu %d, joint_states %d, odom %d, pose_velocity %d, /tf_static 1 (rolling radius %.3f m)"
           % (args.out, len(t_acc), len(t_whl), len(t_spd), len(t_pos), args.rolling_radius))
     if args.report:

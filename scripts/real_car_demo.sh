@@ -98,7 +98,7 @@ def smooth(t, x, width):
 
 
 v_can_s = smooth(t_od, v_can, 1.0)
-a_can = np.gradient(v_can_s, t_od)  # [m/s^2], 1 s average
+a_can = (np.interp(t_od + 0.5, t_od, v_can) - np.interp(t_od - 0.5, t_od, v_can)) / 1.0  # dv/dt over 1 s [m/s^2]
 r_s = smooth(t_imu, gyr[:, 2], 0.5)  # body yaw rate [rad/s]
 
 # --- the front end's output ---
@@ -274,7 +274,8 @@ fig, ax = plt.subplots(2, 1, figsize=(9, 6), sharex=True)
 for i, n in enumerate(W):
     ax[0].plot(ts_ - t0, smooth(ts_, kap[:, i], 0.5), lw=0.8, color=cols[n], label=n + " (0.5 s mean)")
 ax[0].set_ylabel("estimated slip ratio [-]"); ax[0].legend(fontsize=7, ncol=2); ax[0].grid(alpha=0.3); shade(ax[0])
-ax[1].plot(ts_ - t0, kap[:, :2].mean(1) - kap[:, 2:].mean(1), lw=0.6, color="tab:blue", label="estimate: front - rear")
+ax[1].plot(ts_ - t0, smooth(ts_, kap[:, :2].mean(1) - kap[:, 2:].mean(1), 1.0), lw=1, color="tab:blue",
+           label="estimate: front - rear (1 s mean)")
 ax[1].plot(ts_ - t0, raw_at, "k", lw=1, label="sensors: front/rear wheel speed - 1 (1 s mean)")
 ax[1].set_ylabel("[-]"); ax[1].set_xlabel("t [s]"); ax[1].legend(fontsize=7); ax[1].grid(alpha=0.3); shade(ax[1])
 fig.suptitle("Slip ratios (green: accelerating, red: decelerating)")
@@ -284,12 +285,15 @@ fig, ax = plt.subplots(3, 1, figsize=(9, 8), sharex=True)
 for k, (n1, n2) in enumerate((("front_left", "front_right"), ("rear_left", "rear_right"))):
     for n in (n1, n2):
         ax[k].plot(tp - t0, alpha_est[n], lw=0.8, color=cols[n], label="estimated " + n)
-        ax[k].plot(tp - t0, alpha_ref[n], lw=0.8, ls="--", color=cols[n], label="pose reference " + n)
+        ax[k].plot(tp - t0, alpha_ref[n] - alpha_ref[n].mean(), lw=0.8, ls="--", color=cols[n],
+                   label="pose reference %s, its mean %+.2f removed" % (n, alpha_ref[n].mean()))
     ax[k].set_ylabel("slip angle [deg]"); ax[k].legend(fontsize=7, ncol=2); ax[k].grid(alpha=0.3)
 ax[2].plot(tp - t0, beta_est, "tab:blue", lw=0.8, label="estimated (from the rear slip angles)")
-ax[2].plot(tp - t0, beta_ref, "k", lw=0.8, label="fused pose atan2(v_y, v_x)")
+ax[2].plot(tp - t0, beta_ref - beta_ref.mean(), "k", lw=0.8,
+           label="fused pose atan2(v_y, v_x), its mean %+.2f removed" % beta_ref.mean())
 ax[2].set_ylabel("sideslip [deg]"); ax[2].set_xlabel("t [s]"); ax[2].legend(fontsize=7); ax[2].grid(alpha=0.3)
-fig.suptitle("Slip angles and sideslip against the fused pose's lateral velocity")
+fig.suptitle("Slip angles and sideslip against the fused pose's lateral velocity\n(reference means removed: "
+             "the mount-yaw offset between the accelerometer and the pose's device frame)", fontsize=10)
 fig.tight_layout(); fig.savefig(os.path.join(out_dir, "real_car_slip_angle.png"), dpi=110); plt.close(fig)
 
 ts = np.genfromtxt(os.path.join(out_dir, "rav4_timeseries.csv"), delimiter=",", names=True)
