@@ -313,7 +313,8 @@ struct TrialStress {
   V t2x, t2y, t2;
 };
 
-/// Trial stress D o v_r - b with v_r at the tip's position from the deflection n.dlx, n.dly (Eq 14 generalised).
+/// Trial stress D o v_r - b with v_r at the tip's position from the deflection n.dlx, n.dly (Eq 14 generalised:
+/// TipKinematics::vrx and vry in lanes).
 template <class V>
 inline TrialStress<V> trialStress(const Constants& k, const Node& node, const PackStep<V>& st, const PackHistory<V>& h,
                                   const V& y, const PackNode<V>& n) {
