@@ -158,6 +158,14 @@ for name, sel in phases.items():
         "raw_front_over_rear_wheel_speed_minus_1": float(raw_at[sel].mean()),
         "per_wheel_mean": {n: float(kap[sel, i].mean()) for i, n in enumerate(W)},
     }
+# the tire's longitudinal slip stiffness the sensors imply: accelerating minus coasting, front-rear wheel-speed
+# difference against the added drive force per front-axle load, C_kappa/Fz = (m da / Fz_f) / d(slip)
+acc_, coa_ = phases["accelerating (a > 0.5 m/s^2)"], phases["coasting (|a| < 0.25 m/s^2)"]
+if acc_.any() and coa_.any():
+    da = a_s[acc_].mean() - a_s[coa_].mean()
+    dslip = raw_at[acc_].mean() - raw_at[coa_].mean()
+    checks["slip_ratio"]["implied_slip_stiffness_per_load"] = float((m * da / (m * g * lr / L)) / dslip)
+    checks["slip_ratio"]["model_slip_stiffness_per_load"] = veh["longitudinal_slip_stiffness"]
 pf = np.polyfit(a_s, kap[:, :2].mean(1) - kap[:, 2:].mean(1), 1)
 checks["slip_ratio"]["front_minus_rear_vs_accel_slope_per_mps2"] = float(pf[0])
 checks["slip_ratio"]["raw_front_over_rear_vs_accel_slope_per_mps2"] = float(np.polyfit(a_s, raw_at, 1)[0])
@@ -208,6 +216,15 @@ checks["wear"] = {w["name"]: {"mg_per_km": w["mg_per_km"], "mass_loss_mg": w["ma
                               "samples_rejected": w["samples_rejected"], "unaccounted_time_s": w["unaccounted_time_s"]}
                   for w in summ["wheels"]}
 checks["wear"]["mean_mg_per_km"] = summ["mean_mg_per_km"]
+# bursts: 0.1 s steps whose wear rate exceeds 3x the wheel's median; their share of the time and of the loss
+ts = np.genfromtxt(os.path.join(out_dir, "rav4_timeseries.csv"), delimiter=",", names=True)
+rate = np.array([ts["%s_wear_rate_mg_per_s" % n] for n in W]).T
+burst = (rate > 3.0 * np.median(rate, 0)).any(1)
+dts = np.gradient(ts["time_s"])
+checks["wear"]["bursts"] = {
+    "time_share": float(burst.mean()),
+    "loss_share": {n: float((rate[burst, i] * dts[burst]).sum() / (rate[:, i] * dts).sum()) for i, n in enumerate(W)},
+    "times_s": [round(float(x), 1) for x in ts["time_s"][burst] - t0]}
 checks["conversion"] = json.load(open(os.path.join(out_dir, "conversion.json")))
 with open(os.path.join(out_dir, "real_car_checks.json"), "w") as fh:
     json.dump(checks, fh, indent=2)
@@ -226,6 +243,9 @@ for name, c in checks["slip_ratio"].items():
               "speeds front/rear-1 %+.5f)" % (name, 100 * c["share_of_time"], c["mean_accel_mps2"], c["front_mean"],
                                                c["rear_mean"], c["front_minus_rear_mean"],
                                                c["raw_front_over_rear_wheel_speed_minus_1"]))
+if "implied_slip_stiffness_per_load" in checks["slip_ratio"]:
+    print("slip stiffness implied by the wheel speeds (accelerating - coasting): C_kappa/Fz = %.1f (vehicle file %.1f)"
+          % (checks["slip_ratio"]["implied_slip_stiffness_per_load"], veh["longitudinal_slip_stiffness"]))
 for n in W:
     c = checks["slip_angle_deg"][n]
     print("slip angle %-11s est mean %+.3f std %.3f | ref mean %+.3f std %.3f | diff RMS %.3f, mean removed %.3f, "
@@ -296,15 +316,17 @@ fig.suptitle("Slip angles and sideslip against the fused pose's lateral velocity
              "the mount-yaw offset between the accelerometer and the pose's device frame)", fontsize=10)
 fig.tight_layout(); fig.savefig(os.path.join(out_dir, "real_car_slip_angle.png"), dpi=110); plt.close(fig)
 
-ts = np.genfromtxt(os.path.join(out_dir, "rav4_timeseries.csv"), delimiter=",", names=True)
 fig, ax = plt.subplots(1, 2, figsize=(10, 4))
 for n in W:
-    ax[0].plot(ts["time_s"], ts["%s_loss_mg" % n], color=cols[n], label=n)
-ax[0].set_xlabel("t [s]"); ax[0].set_ylabel("cumulative loss [mg]"); ax[0].legend(fontsize=7); ax[0].grid(alpha=0.3)
+    ax[0].plot(ts["time_s"] - t0, ts["%s_loss_mg" % n], color=cols[n], label=n)
+ax[0].set_xlabel("t [s] from the segment's start"); ax[0].set_ylabel("cumulative loss [mg]"); ax[0].legend(fontsize=7); ax[0].grid(alpha=0.3)
 ax[1].bar(range(4), [checks["wear"][n]["mg_per_km"] for n in W], color=[cols[n] for n in W])
 ax[1].set_xticks(range(4)); ax[1].set_xticklabels([n.replace("_", "\n") for n in W], fontsize=8)
 ax[1].set_ylabel("wear over the segment [mg/km]"); ax[1].grid(alpha=0.3, axis="y")
 fig.suptitle("Tread wear per wheel, comma2k19 RAV4 segment (tire file: 205/55 R16)")
 fig.tight_layout(); fig.savefig(os.path.join(out_dir, "real_car_wear.png"), dpi=110); plt.close(fig)
+b_ = checks["wear"]["bursts"]
+print("wear bursts (rate > 3x median): %.1f %% of the time, %s of the loss, at t = %s s"
+      % (100 * b_["time_share"], ", ".join("%.0f %%" % (100 * b_["loss_share"][n]) for n in W), b_["times_s"]))
 print("wrote %s/real_car_checks.json and real_car_{speed,loads,slip_ratio,slip_angle,wear}.png" % out_dir)
 PY
