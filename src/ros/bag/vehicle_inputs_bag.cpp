@@ -201,7 +201,7 @@ VehicleInputsResult runVehicleInputs(const std::string& in_path, const std::stri
   VehicleInputEstimate estimate;
   const double dt = 1.0 / options.rate_hz;
   bool grid_started = false;
-  double grid0 = 0.0;
+  double grid0 = 0.0, grid_end = 0.0;  // cycles up to the last IMU or joint_states sample
   std::size_t next = 0;
 
   auto cycle = [&](double t) {
@@ -270,7 +270,7 @@ VehicleInputsResult runVehicleInputs(const std::string& in_path, const std::stri
     }
     for (;;) {
       const double tc = grid0 + static_cast<double>(next) * dt;
-      if (tc >= t - 1e-7) break;
+      if (tc >= t - 1e-7 || tc > grid_end + 1e-7) break;
       cycle(tc);
       ++next;
     }
@@ -279,12 +279,11 @@ VehicleInputsResult runVehicleInputs(const std::string& in_path, const std::stri
   try {
     std::array<int, kWheelCount + 1> joint_index{};
     std::vector<std::string> last_names;
-    double last_time = 0.0;
+    grid_end = rosbag::View(in, rosbag::TopicQuery(std::vector<std::string>{imu_topic, joint_topic})).getEndTime().toSec();
     rosbag::View sensors(in, rosbag::TopicQuery(std::vector<std::string>{imu_topic, joint_topic, odom_topic}));
     for (const rosbag::MessageInstance& m : sensors) {
       const double record = m.getTime().toSec();
       advanceTo(record);
-      last_time = std::max(last_time, record);
       if (m.getTopic() == imu_topic) {
         const auto imu = m.instantiate<sensor_msgs::Imu>();
         if (!imu) continue;
@@ -325,7 +324,7 @@ VehicleInputsResult runVehicleInputs(const std::string& in_path, const std::stri
         estimator.addSpeed(record, std::fabs(odom->twist.twist.linear.x));
       }
     }
-    if (grid_started) advanceTo(last_time + 0.5 * dt);
+    if (grid_started) advanceTo(grid_end + 0.5 * dt);
     if (!info_topic.empty()) {
       rosbag::View info(in, rosbag::TopicQuery(info_topic));
       for (const rosbag::MessageInstance& m : info) {
@@ -343,10 +342,13 @@ VehicleInputsResult runVehicleInputs(const std::string& in_path, const std::stri
                    std::to_string(result.odometry_messages) + ")");
   result.radii = estimator.rollingRadii();
   for (int i = 0; i < kWheelCount; ++i) result.radius_converged[static_cast<std::size_t>(i)] = estimator.radiusConverged(i);
-  for (int s = 0; s < kSensorCount; ++s)
-    for (int f = 1; f < kSampleFaultCount; ++f)
-      if (static_cast<SampleFault>(f) != SampleFault::kStale)
-        result.rejected_samples += estimator.faultCount(static_cast<Sensor>(s), static_cast<SampleFault>(f));
+  for (int s = 0; s < kSensorCount; ++s) {
+    for (int f = 1; f < kSampleFaultCount; ++f) {
+      const std::uint64_t count = estimator.faultCount(static_cast<Sensor>(s), static_cast<SampleFault>(f));
+      result.faults[static_cast<std::size_t>(s)][static_cast<std::size_t>(f)] = count;
+      if (static_cast<SampleFault>(f) != SampleFault::kStale) result.rejected_samples += count;
+    }
+  }
   return result;
 }
 

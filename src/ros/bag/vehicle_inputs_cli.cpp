@@ -64,6 +64,15 @@ int runVehicleInputsCli(int argc, const char* const argv[], const std::string& s
     out << formatted("%s: %zu cycles at %g Hz (%zu without a speed source), %llu rejected samples\n",
                      out_path.c_str(), r.cycles, options.rate_hz, r.invalid_cycles,
                      static_cast<unsigned long long>(r.rejected_samples));
+    for (int s = 0; s < kSensorCount; ++s) {
+      for (int f = 1; f < kSampleFaultCount; ++f) {
+        const std::uint64_t n = r.faults[static_cast<std::size_t>(s)][static_cast<std::size_t>(f)];
+        if (n > 0)
+          out << formatted("  %s %s: %llu%s\n", sensorName(static_cast<Sensor>(s)),
+                           sampleFaultName(static_cast<SampleFault>(f)), static_cast<unsigned long long>(n),
+                           static_cast<SampleFault>(f) == SampleFault::kStale ? " cycles" : " samples rejected");
+      }
+    }
     for (int w = 0; w < kWheelCount; ++w) {
       const auto i = static_cast<std::size_t>(w);
       out << formatted("  %-11s rolling radius %.5f m over %.0f m%s\n", wheelName(w), r.radii[i].radius_m,

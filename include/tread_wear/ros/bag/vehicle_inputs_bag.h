@@ -44,6 +44,8 @@ struct VehicleInputsResult {
   std::array<RollingRadiusState, kWheelCount> radii{};  ///< learned at the end
   std::array<bool, kWheelCount> radius_converged{};
   std::uint64_t rejected_samples = 0;           ///< sum of the estimator's fault counters except kStale
+  /// The estimator's counters by sensor and fault (kStale: cycles with that sensor stale).
+  std::array<std::array<std::uint64_t, kSampleFaultCount>, kSensorCount> faults{};
 
   // Against the truth topics of the input bag (truth_present), per wheel:
   bool truth_present = false;
@@ -53,8 +55,8 @@ struct VehicleInputsResult {
   std::array<ErrorStat, kWheelCount> speed;       ///< wheel speed [m/s]
 };
 
-/// Reads `in_path` (checkBagRecords first), runs the estimator at rate_hz from the first sensor sample to the last
-/// and writes `out_path`: per wheel WheelLoad, WheelSlip, WheelSpeed at each valid cycle (a quantity without a
+/// Reads `in_path` (checkBagRecords first), runs the estimator at rate_hz from the first sensor sample to the last IMU or
+/// joint_states sample and writes `out_path`: per wheel WheelLoad, WheelSlip, WheelSpeed at each valid cycle (a quantity without a
 /// source, NaN, is not written; slips below the slip speed are 0 as the estimator gives them), plus the input's
 /// /drive/info if any. IMU and joint_states are fed at their header stamps, odom at its record time with the
 /// estimator's speed_lag_s set to the measured latency. Scores against wheels/<name>/{load,slip,speed} of the
