@@ -27,3 +27,11 @@ target_include_directories(${PROJECT_NAME}_ros_bag PRIVATE ${roslz4_INCLUDE_DIRS
 add_executable(${PROJECT_NAME}_node src/nodes/tread_wear_node.cpp)
 target_link_libraries(${PROJECT_NAME}_node ${PROJECT_NAME}_ros)
 install(TARGETS ${PROJECT_NAME}_node RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+# The vehicle front end (docs/vehicle_inputs_node.md): sensor_msgs, nav_msgs and tf2 headers in ros/vehicle_inputs_*.
+find_package(sensor_msgs REQUIRED)
+find_package(nav_msgs REQUIRED)
+target_include_directories(${PROJECT_NAME}_ros PRIVATE ${sensor_msgs_INCLUDE_DIRS} ${nav_msgs_INCLUDE_DIRS})
+add_executable(vehicle_inputs_node src/nodes/vehicle_inputs_node.cpp)
+target_include_directories(vehicle_inputs_node PRIVATE ${sensor_msgs_INCLUDE_DIRS} ${nav_msgs_INCLUDE_DIRS})
+target_link_libraries(vehicle_inputs_node ${PROJECT_NAME}_ros)
+install(TARGETS vehicle_inputs_node RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})

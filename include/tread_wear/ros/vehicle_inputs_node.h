@@ -1,0 +1,129 @@
+#pragma once
+/// @file vehicle_inputs_node.h
+/// ROS front end of VehicleInputEstimator (estimation/vehicle_input_estimator.h): from the car's own sensors
+/// (sensor_msgs/Imu, sensor_msgs/JointState with the wheel speeds and the steering-wheel angle, and a reference
+/// speed from nav_msgs/Odometry or geometry_msgs/TwistWithCovarianceStamped) to the wear node's per-wheel inputs
+/// wheels/<name>/{load,slip,speed} plus wheels/<name>/input_quality, at a fixed rate. docs/vehicle_inputs_node.md.
+///
+/// Time: every sample enters the estimator at its header stamp (not its arrival time); the cycle estimates at the
+/// node's clock (ros::Time::now(), the bag's time under use_sim_time). IMU axes are rotated into base_frame with
+/// the IMU frame's transform from tf2 before addImu; the lever arm is the transform's translation minus the CoG
+/// position. Without a transform the IMU is not used (the estimator's fallback, a diagnostic), never identity.
+/// Threads: every callback and the cycle run on one spinner thread (no locks on the estimator); the publishers'
+/// threads serialise (RealtimePublisher). The cycle allocates nothing, logs nothing and does no blocking I/O.
+
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <geometry_msgs/TwistWithCovarianceStamped.h>
+#include <nav_msgs/Odometry.h>
+#include <ros/ros.h>
+#include <sensor_msgs/Imu.h>
+#include <sensor_msgs/JointState.h>
+#include <tf2/LinearMath/Matrix3x3.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "tread_wear/WheelInputQuality.h"
+#include "tread_wear/WheelLoad.h"
+#include "tread_wear/WheelSlip.h"
+#include "tread_wear/WheelSpeed.h"
+#include "tread_wear/estimation/vehicle_input_estimator.h"
+#include "tread_wear/ros/realtime_publisher.h"
+#include "tread_wear/ros/vehicle_inputs_config.h"
+
+namespace tread_wear {
+
+/// Fills the quality message of one wheel from the estimate (no allocation: the wheel name is set once).
+void fillInputQuality(const VehicleInputEstimate& estimate, int wheel, bool published,
+                      tread_wear::WheelInputQuality* msg);
+/// True when every quantity the wear node needs of this wheel has a source (load, slip angle, slip ratio valid
+/// and finite, speed and curvature finite) and the estimate as a whole is valid.
+bool wheelPublishable(const VehicleInputEstimate& estimate, int wheel);
+
+/// Statistics of the publish cycle (read by the diagnostics on the same thread).
+struct CycleStats {
+  std::uint64_t cycles = 0;
+  double last_cpu_us = 0.0, max_cpu_us = 0.0, sum_cpu_us = 0.0;  ///< thread CPU time per cycle [us]
+  double last_wall_us = 0.0, max_wall_us = 0.0;                  ///< wall time per cycle [us]
+  std::uint64_t overruns = 0;       ///< cycles longer than the period, or started more than a period late
+  std::uint64_t skipped_publications = 0;  ///< a publisher thread still held the previous message
+  std::uint64_t clock_faults = 0;   ///< estimate() refused a backward or non-finite time
+  std::uint64_t invalid_cycles = 0; ///< cycles without any speed source (nothing published)
+  std::array<std::uint64_t, kWheelCount> published{}, withheld{};  ///< per wheel: published / not publishable
+};
+
+class VehicleInputsNode {
+ public:
+  VehicleInputsNode(ros::NodeHandle nh, ros::NodeHandle pnh);
+  ~VehicleInputsNode();
+  /// Reads and validates the configuration, restores the radii, subscribes, advertises and starts the timers.
+  /// false (after logging FATAL with the reason) on an invalid configuration.
+  bool initialize();
+  /// Stops the timers and saves the radii; idempotent.
+  void shutdown();
+
+ private:
+  struct WheelPublishers {
+    std::unique_ptr<RealtimePublisher<tread_wear::WheelLoad>> load;
+    std::unique_ptr<RealtimePublisher<tread_wear::WheelSlip>> slip;
+    std::unique_ptr<RealtimePublisher<tread_wear::WheelSpeed>> speed;
+    std::unique_ptr<RealtimePublisher<tread_wear::WheelInputQuality>> quality;
+  };
+
+  double toEstimatorTime(const ros::Time& stamp);
+  bool imuTransform(const std::string& frame_id);
+  void rebuildEstimator();
+  void imuCallback(const sensor_msgs::Imu::ConstPtr& msg);
+  void jointCallback(const sensor_msgs::JointState::ConstPtr& msg);
+  void odomCallback(const nav_msgs::Odometry::ConstPtr& msg);
+  void twistCallback(const geometry_msgs::TwistWithCovarianceStamped::ConstPtr& msg);
+  void cycle(const ros::TimerEvent& event);
+  void saveRadii(const char* why);
+  void sensorDiagnostics(diagnostic_updater::DiagnosticStatusWrapper& stat);
+  void wheelDiagnostics(int wheel, diagnostic_updater::DiagnosticStatusWrapper& stat);
+  void cycleDiagnostics(diagnostic_updater::DiagnosticStatusWrapper& stat);
+  void radiusDiagnostics(diagnostic_updater::DiagnosticStatusWrapper& stat);
+
+  ros::NodeHandle nh_, pnh_;
+  VehicleInputsConfig config_;
+  std::unique_ptr<VehicleInputEstimator> estimator_;
+  VehicleInputEstimate estimate_;
+  tf2_ros::Buffer tf_buffer_;
+  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+  ros::Subscriber imu_sub_, joint_sub_, speed_sub_;
+  std::array<WheelPublishers, kWheelCount> publishers_;
+  std::unique_ptr<diagnostic_updater::Updater> updater_;
+  ros::Timer cycle_timer_;
+  ros::WallTimer diagnostics_timer_, save_timer_;
+  bool shut_down_ = false;
+
+  // time base: estimator time = header stamp - epoch [s]
+  bool have_epoch_ = false;
+  ros::Time epoch_;
+
+  // IMU mounting from tf
+  std::string imu_frame_;            ///< frame of the cached transform
+  bool imu_tf_ok_ = false;
+  tf2::Matrix3x3 imu_rotation_;      ///< IMU axes -> base_frame
+  std::array<double, 3> imu_lever_arm_m_{{0.0, 0.0, 0.0}};  ///< IMU origin from the CoG in base_frame [m]
+  std::string imu_tf_error_ = "no IMU message yet";
+  std::string imu_frame_attempted_;  ///< frame of the last lookup attempt
+  ros::WallTime last_tf_attempt_;
+  std::uint64_t imu_received_ = 0, imu_without_tf_ = 0;
+  std::uint64_t joint_received_ = 0, joint_without_wheels_ = 0, joint_without_steering_ = 0, speed_received_ = 0;
+  std::array<std::uint64_t, kSensorCount> rejected_at_last_report_{};
+
+  CycleStats stats_;
+  ros::Time last_cycle_start_;
+
+  // rolling radii persistence
+  std::string radius_restore_ = "off";
+  std::string radius_save_error_;
+  ros::WallTime last_save_;
+};
+
+}  // namespace tread_wear

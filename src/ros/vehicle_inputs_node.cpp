@@ -1,0 +1,473 @@
+#include "tread_wear/ros/vehicle_inputs_node.h"
+
+#include <time.h>
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "tread_wear/io/rolling_radius_store.h"
+
+namespace tread_wear {
+namespace {
+
+double threadCpu_us() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return 1e6 * static_cast<double>(ts.tv_sec) + 1e-3 * static_cast<double>(ts.tv_nsec);
+}
+
+double steady_us() {
+  return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+double wallNow_s() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+const char* steerSourceName(SteerSource s) { return s == SteerSource::kMeasured ? "measured" : "none (single-track model)"; }
+
+constexpr std::array<SampleFault, 5> kRejections{{SampleFault::kNotFinite, SampleFault::kOutOfOrder,
+                                                  SampleFault::kOutOfRange, SampleFault::kFrozen,
+                                                  SampleFault::kStale}};
+
+std::uint64_t rejectedCount(const VehicleInputEstimator& e, Sensor s) {
+  return e.faultCount(s, SampleFault::kNotFinite) + e.faultCount(s, SampleFault::kOutOfOrder) +
+         e.faultCount(s, SampleFault::kOutOfRange) + e.faultCount(s, SampleFault::kFrozen);
+}
+
+// Fallback in use when a sensor is missing (docs/vehicle_inputs.md, Fallbacks).
+const char* fallbackOf(Sensor s) {
+  switch (s) {
+    case Sensor::kImu: return "loads and lateral model on the flat-road fallback (speed derivative), yaw rate from wheels";
+    case Sensor::kWheelSpeed: return "speed from the reference speed / IMU dead reckoning; slip ratio invalid";
+    case Sensor::kSteering: return "front slip angles from the single-track model";
+    case Sensor::kSpeed: return "no rolling-radius learning; speed from wheels + IMU";
+  }
+  return "";
+}
+
+}  // namespace
+
+bool wheelPublishable(const VehicleInputEstimate& e, int wheel) {
+  if (!e.valid) return false;
+  const WheelInputEstimate& w = e.wheels[static_cast<std::size_t>(wheel)];
+  return w.load_quality != EstimateQuality::kInvalid && w.slip_angle_quality != EstimateQuality::kInvalid &&
+         w.slip_ratio_quality != EstimateQuality::kInvalid && std::isfinite(w.load_n) &&
+         std::isfinite(w.slip_angle_rad) && std::isfinite(w.slip_ratio) && std::isfinite(w.path_curvature_per_m) &&
+         std::isfinite(w.speed_mps);
+}
+
+void fillInputQuality(const VehicleInputEstimate& e, int wheel, bool published, tread_wear::WheelInputQuality* msg) {
+  const WheelInputEstimate& w = e.wheels[static_cast<std::size_t>(wheel)];
+  msg->load_quality = static_cast<std::uint8_t>(e.valid ? w.load_quality : EstimateQuality::kInvalid);
+  msg->slip_angle_quality = static_cast<std::uint8_t>(e.valid ? w.slip_angle_quality : EstimateQuality::kInvalid);
+  msg->slip_ratio_quality = static_cast<std::uint8_t>(e.valid ? w.slip_ratio_quality : EstimateQuality::kInvalid);
+  msg->flags = w.flags;
+  msg->speed_source = static_cast<std::uint8_t>(e.speed_source);
+  msg->yaw_rate_source = static_cast<std::uint8_t>(e.yaw_rate_source);
+  msg->accel_source = static_cast<std::uint8_t>(e.accel_source);
+  msg->published = published;
+  msg->steer_angle_rad = w.steer_angle_rad;
+  msg->rolling_radius_m = w.rolling_radius_m;
+}
+
+VehicleInputsNode::VehicleInputsNode(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), pnh_(pnh) {}
+
+VehicleInputsNode::~VehicleInputsNode() { shutdown(); }
+
+bool VehicleInputsNode::initialize() {
+  std::string error;
+  if (!loadVehicleInputsConfig(pnh_, &config_, &error)) {
+    ROS_FATAL("vehicle_inputs_node: invalid configuration: %s", error.c_str());
+    return false;
+  }
+  ROS_INFO_STREAM("vehicle_inputs_node parameters:\n" << config_.describe());
+  // The node rotates the IMU into base_frame itself (tf); the lever arm is set once the transform is known.
+  config_.estimator.imu_mount_rpy_rad = {0.0, 0.0, 0.0};
+  config_.estimator.imu_position_m = {0.0, 0.0, 0.0};
+  estimator_ = std::make_unique<VehicleInputEstimator>(config_.estimator);
+
+  if (!config_.radius_file.empty()) {
+    std::array<RollingRadiusState, kWheelCount> radii{};
+    std::string load_error;
+    const RadiusLoadStatus s = loadRollingRadii(config_.radius_file, config_.wheel_names, &radii, &load_error);
+    radius_restore_ = radiusLoadStatusName(s);
+    if (s == RadiusLoadStatus::kLoaded) {
+      if (estimator_->restoreRollingRadii(radii)) {
+        ROS_INFO("vehicle_inputs_node: rolling radii restored from %s", config_.radius_file.c_str());
+      } else {
+        radius_restore_ = "rejected";
+        ROS_ERROR("vehicle_inputs_node: rolling radii in %s rejected by the estimator; starting nominal",
+                  config_.radius_file.c_str());
+      }
+    } else if (s == RadiusLoadStatus::kInvalid) {
+      ROS_ERROR("vehicle_inputs_node: %s; starting from the nominal radii", load_error.c_str());
+    }
+  }
+
+  tf_listener_ = std::make_unique<tf2_ros::TransformListener>(tf_buffer_, nh_);
+  for (int i = 0; i < kWheelCount; ++i) {
+    const std::string prefix = "wheels/" + config_.wheel_names[i] + "/";
+    WheelPublishers& p = publishers_[i];
+    p.load = std::make_unique<RealtimePublisher<tread_wear::WheelLoad>>(
+        nh_.advertise<tread_wear::WheelLoad>(prefix + "load", 10));
+    p.slip = std::make_unique<RealtimePublisher<tread_wear::WheelSlip>>(
+        nh_.advertise<tread_wear::WheelSlip>(prefix + "slip", 10));
+    p.speed = std::make_unique<RealtimePublisher<tread_wear::WheelSpeed>>(
+        nh_.advertise<tread_wear::WheelSpeed>(prefix + "speed", 10));
+    p.quality = std::make_unique<RealtimePublisher<tread_wear::WheelInputQuality>>(
+        nh_.advertise<tread_wear::WheelInputQuality>(prefix + "input_quality", 10));
+    // Preallocated: frame ids and the wheel name are set once, the cycle writes numbers only.
+    p.load->msg().header.frame_id = config_.base_frame;
+    p.slip->msg().header.frame_id = config_.base_frame;
+    p.speed->msg().header.frame_id = config_.base_frame;
+    p.quality->msg().header.frame_id = config_.base_frame;
+    p.quality->msg().wheel = config_.wheel_names[i];
+  }
+  const ros::TransportHints hints = ros::TransportHints().tcpNoDelay();
+  imu_sub_ = nh_.subscribe("imu", 50, &VehicleInputsNode::imuCallback, this, hints);
+  joint_sub_ = nh_.subscribe("joint_states", 50, &VehicleInputsNode::jointCallback, this, hints);
+  if (config_.speed_source == "odom")
+    speed_sub_ = nh_.subscribe("odom", 20, &VehicleInputsNode::odomCallback, this, hints);
+  else
+    speed_sub_ = nh_.subscribe("speed", 20, &VehicleInputsNode::twistCallback, this, hints);
+
+  updater_ = std::make_unique<diagnostic_updater::Updater>(nh_, pnh_);
+  updater_->setHardwareID("vehicle_inputs");
+  updater_->add("sensors", this, &VehicleInputsNode::sensorDiagnostics);
+  for (int i = 0; i < kWheelCount; ++i)
+    updater_->add("wheel " + config_.wheel_names[i],
+                  [this, i](diagnostic_updater::DiagnosticStatusWrapper& stat) { wheelDiagnostics(i, stat); });
+  updater_->add("publish cycle", this, &VehicleInputsNode::cycleDiagnostics);
+  updater_->add("rolling radii", this, &VehicleInputsNode::radiusDiagnostics);
+  diagnostics_timer_ = nh_.createWallTimer(ros::WallDuration(config_.diagnostic_period_s),
+                                           [this](const ros::WallTimerEvent&) { updater_->force_update(); });
+  if (!config_.radius_file.empty())
+    save_timer_ = nh_.createWallTimer(ros::WallDuration(config_.save_interval_s),
+                                      [this](const ros::WallTimerEvent&) { saveRadii("periodic"); });
+  cycle_timer_ = nh_.createTimer(ros::Duration(1.0 / config_.publish_rate_hz), &VehicleInputsNode::cycle, this);
+  return true;
+}
+
+void VehicleInputsNode::shutdown() {
+  if (shut_down_ || !estimator_) return;
+  shut_down_ = true;
+  cycle_timer_.stop();
+  diagnostics_timer_.stop();
+  save_timer_.stop();
+  saveRadii("shutdown");
+  for (WheelPublishers& p : publishers_) {
+    if (p.load) p.load->stop();
+    if (p.slip) p.slip->stop();
+    if (p.speed) p.speed->stop();
+    if (p.quality) p.quality->stop();
+  }
+}
+
+double VehicleInputsNode::toEstimatorTime(const ros::Time& stamp) {
+  if (!have_epoch_) {
+    // The first stamp seen, a little earlier, keeps the estimator's times small (double precision) and positive.
+    const ros::Time now = ros::Time::now();
+    const ros::Time first = (now.isZero() || stamp < now) ? stamp : now;
+    epoch_ = first.toSec() > 10.0 ? first - ros::Duration(10.0) : ros::Time(0);
+    have_epoch_ = true;
+  }
+  return (stamp - epoch_).toSec();
+}
+
+bool VehicleInputsNode::imuTransform(const std::string& frame_id) {
+  if (imu_tf_ok_ && frame_id == imu_frame_) return true;
+  if (frame_id.empty()) {
+    imu_tf_error_ = "IMU header.frame_id is empty";
+    return false;
+  }
+  // A missing transform is looked up again at most twice a second (a failed lookup costs an exception).
+  const ros::WallTime wall = ros::WallTime::now();
+  if (frame_id == imu_frame_attempted_ && !last_tf_attempt_.isZero() && (wall - last_tf_attempt_).toSec() < 0.5)
+    return false;
+  imu_frame_attempted_ = frame_id;
+  last_tf_attempt_ = wall;
+  geometry_msgs::TransformStamped tf;
+  try {
+    tf = tf_buffer_.lookupTransform(config_.base_frame, frame_id, ros::Time(0), ros::Duration(config_.tf_timeout_s));
+  } catch (const tf2::TransformException& e) {
+    imu_tf_error_ = e.what();
+    imu_tf_ok_ = false;
+    return false;
+  }
+  const geometry_msgs::Quaternion& q = tf.transform.rotation;
+  imu_rotation_.setRotation(tf2::Quaternion(q.x, q.y, q.z, q.w));
+  imu_frame_ = frame_id;
+  imu_tf_ok_ = true;
+  imu_tf_error_.clear();
+  const geometry_msgs::Vector3& t = tf.transform.translation;
+  const std::array<double, 3> lever{{t.x - config_.cog_position_m[0], t.y - config_.cog_position_m[1],
+                                     t.z - config_.cog_position_m[2]}};
+  if (lever != imu_lever_arm_m_) {
+    imu_lever_arm_m_ = lever;
+    rebuildEstimator();
+  }
+  ROS_INFO("vehicle_inputs_node: IMU frame %s -> %s found; lever arm from the CoG [%.3f, %.3f, %.3f] m",
+           frame_id.c_str(), config_.base_frame.c_str(), lever[0], lever[1], lever[2]);
+  return true;
+}
+
+void VehicleInputsNode::rebuildEstimator() {
+  // Once, when the IMU's lever arm becomes known: a new estimator with the same learned radii.
+  const std::array<RollingRadiusState, kWheelCount> radii = estimator_->rollingRadii();
+  config_.estimator.imu_position_m = imu_lever_arm_m_;
+  estimator_ = std::make_unique<VehicleInputEstimator>(config_.estimator);
+  estimator_->restoreRollingRadii(radii);
+}
+
+void VehicleInputsNode::imuCallback(const sensor_msgs::Imu::ConstPtr& msg) {
+  ++imu_received_;
+  if (!imuTransform(msg->header.frame_id)) {
+    ++imu_without_tf_;
+    return;
+  }
+  const tf2::Vector3 f = imu_rotation_ * tf2::Vector3(msg->linear_acceleration.x, msg->linear_acceleration.y,
+                                                      msg->linear_acceleration.z);
+  const tf2::Vector3 w =
+      imu_rotation_ * tf2::Vector3(msg->angular_velocity.x, msg->angular_velocity.y, msg->angular_velocity.z);
+  estimator_->addImu(toEstimatorTime(msg->header.stamp), f.x(), f.y(), f.z(), w.x(), w.y(), w.z());
+}
+
+void VehicleInputsNode::jointCallback(const sensor_msgs::JointState::ConstPtr& msg) {
+  ++joint_received_;
+  const double t = toEstimatorTime(msg->header.stamp);
+  std::array<double, kWheelCount> omega{};
+  int found = 0;
+  bool steering = false;
+  double steering_angle = 0.0;
+  for (std::size_t k = 0; k < msg->name.size(); ++k) {
+    const std::string& n = msg->name[k];
+    if (n == config_.steering_joint && k < msg->position.size()) {
+      steering = true;
+      steering_angle = msg->position[k];
+      continue;
+    }
+    for (int i = 0; i < kWheelCount; ++i)
+      if (n == config_.wheel_joints[i] && k < msg->velocity.size()) {
+        omega[i] = msg->velocity[k];
+        ++found;
+      }
+  }
+  if (found == kWheelCount)
+    estimator_->addWheelSpeeds(t, omega);
+  else
+    ++joint_without_wheels_;
+  if (steering)
+    estimator_->addSteering(t, steering_angle);
+  else
+    ++joint_without_steering_;
+}
+
+void VehicleInputsNode::odomCallback(const nav_msgs::Odometry::ConstPtr& msg) {
+  ++speed_received_;
+  estimator_->addSpeed(toEstimatorTime(msg->header.stamp),
+                       std::hypot(msg->twist.twist.linear.x, msg->twist.twist.linear.y));
+}
+
+void VehicleInputsNode::twistCallback(const geometry_msgs::TwistWithCovarianceStamped::ConstPtr& msg) {
+  ++speed_received_;
+  estimator_->addSpeed(toEstimatorTime(msg->header.stamp),
+                       std::hypot(msg->twist.twist.linear.x, msg->twist.twist.linear.y));
+}
+
+void VehicleInputsNode::cycle(const ros::TimerEvent& event) {
+  // Real time: no allocation, no logging, no blocking I/O from here to the end.
+  const double cpu0 = threadCpu_us(), wall0 = steady_us();
+  const double period_s = 1.0 / config_.publish_rate_hz;
+  bool overrun = !event.last_real.isZero() && (event.current_real - event.current_expected).toSec() > period_s;
+  const ros::Time now = event.current_real.isZero() ? ros::Time::now() : event.current_real;
+  if (!estimator_->estimate(toEstimatorTime(now), &estimate_)) ++stats_.clock_faults;
+  if (!estimate_.valid) ++stats_.invalid_cycles;
+  for (int i = 0; i < kWheelCount; ++i) {
+    const bool publish = wheelPublishable(estimate_, i);
+    const WheelInputEstimate& w = estimate_.wheels[static_cast<std::size_t>(i)];
+    WheelPublishers& p = publishers_[static_cast<std::size_t>(i)];
+    bool published = false;
+    if (publish) {
+      published = true;
+      if (p.load->trylock()) {
+        p.load->msg().header.stamp = now;
+        p.load->msg().load_n = w.load_n;
+        p.load->unlockAndPublish();
+      } else {
+        ++stats_.skipped_publications;
+        published = false;
+      }
+      if (p.slip->trylock()) {
+        p.slip->msg().header.stamp = now;
+        p.slip->msg().slip_angle_rad = w.slip_angle_rad;
+        p.slip->msg().slip_ratio = w.slip_ratio;
+        p.slip->msg().path_curvature_per_m = w.path_curvature_per_m;
+        p.slip->unlockAndPublish();
+      } else {
+        ++stats_.skipped_publications;
+        published = false;
+      }
+      if (p.speed->trylock()) {
+        p.speed->msg().header.stamp = now;
+        p.speed->msg().speed_mps = w.speed_mps;
+        p.speed->unlockAndPublish();
+      } else {
+        ++stats_.skipped_publications;
+        published = false;
+      }
+      ++stats_.published[static_cast<std::size_t>(i)];
+    } else {
+      ++stats_.withheld[static_cast<std::size_t>(i)];
+    }
+    if (p.quality->trylock()) {
+      p.quality->msg().header.stamp = now;
+      fillInputQuality(estimate_, i, published, &p.quality->msg());
+      p.quality->unlockAndPublish();
+    } else {
+      ++stats_.skipped_publications;
+    }
+  }
+  const double cpu_us = threadCpu_us() - cpu0, wall_us = steady_us() - wall0;
+  ++stats_.cycles;
+  stats_.last_cpu_us = cpu_us;
+  stats_.sum_cpu_us += cpu_us;
+  if (cpu_us > stats_.max_cpu_us) stats_.max_cpu_us = cpu_us;
+  stats_.last_wall_us = wall_us;
+  if (wall_us > stats_.max_wall_us) stats_.max_wall_us = wall_us;
+  if (wall_us > 1e6 * period_s) overrun = true;
+  if (overrun) ++stats_.overruns;
+}
+
+void VehicleInputsNode::saveRadii(const char* why) {
+  if (config_.radius_file.empty() || !estimator_) return;
+  std::string error;
+  if (saveRollingRadii(config_.radius_file, config_.wheel_names, estimator_->rollingRadii(), wallNow_s(), &error)) {
+    radius_save_error_.clear();
+    last_save_ = ros::WallTime::now();
+  } else {
+    radius_save_error_ = error;
+    ROS_ERROR_THROTTLE(60.0, "vehicle_inputs_node: %s save of the rolling radii failed: %s", why, error.c_str());
+  }
+}
+
+void VehicleInputsNode::sensorDiagnostics(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  int level = diagnostic_msgs::DiagnosticStatus::OK;
+  std::ostringstream message;
+  const VehicleInputEstimator& e = *estimator_;
+  for (int s = 0; s < kSensorCount; ++s) {
+    const Sensor sensor = static_cast<Sensor>(s);
+    const std::string name = sensorName(sensor);
+    const bool fresh = estimate_.sensor_fresh[static_cast<std::size_t>(s)];
+    stat.add(name + " fresh", fresh);
+    for (SampleFault f : kRejections)
+      stat.addf(name + " " + sampleFaultName(f), "%lu", static_cast<unsigned long>(e.faultCount(sensor, f)));
+    const std::uint64_t rejected = rejectedCount(e, sensor);
+    if (!fresh) {
+      level = std::max<int>(level, diagnostic_msgs::DiagnosticStatus::WARN);
+      message << name << " missing or stale: " << fallbackOf(sensor) << "; ";
+    }
+    if (rejected > rejected_at_last_report_[static_cast<std::size_t>(s)]) {
+      level = std::max<int>(level, diagnostic_msgs::DiagnosticStatus::WARN);
+      message << (rejected - rejected_at_last_report_[static_cast<std::size_t>(s)]) << " " << name
+              << " samples rejected; ";
+    }
+    rejected_at_last_report_[static_cast<std::size_t>(s)] = rejected;
+  }
+  stat.add("imu tf", imu_tf_ok_ ? "ok (" + imu_frame_ + " -> " + config_.base_frame + ")" : "missing: " + imu_tf_error_);
+  stat.addf("imu samples received", "%lu", static_cast<unsigned long>(imu_received_));
+  stat.addf("imu samples without tf", "%lu", static_cast<unsigned long>(imu_without_tf_));
+  if (!imu_tf_ok_ && imu_received_ > 0) {
+    level = std::max<int>(level, diagnostic_msgs::DiagnosticStatus::WARN);
+    message << "no transform " << config_.base_frame << " <- IMU frame: IMU not used; ";
+  }
+  stat.addf("joint_states received", "%lu", static_cast<unsigned long>(joint_received_));
+  stat.addf("joint_states without all wheel joints", "%lu", static_cast<unsigned long>(joint_without_wheels_));
+  stat.addf("joint_states without steering joint", "%lu", static_cast<unsigned long>(joint_without_steering_));
+  stat.addf("speed received", "%lu", static_cast<unsigned long>(speed_received_));
+  stat.add("speed source", speedSourceName(estimate_.speed_source));
+  stat.add("yaw rate source", yawRateSourceName(estimate_.yaw_rate_source));
+  stat.add("acceleration source", accelSourceName(estimate_.accel_source));
+  stat.add("steering source", steerSourceName(estimate_.steer_source));
+  stat.add("valid", estimate_.valid);
+  stat.addf("speed [m/s]", "%.3f", estimate_.speed_mps);
+  stat.addf("yaw rate [rad/s]", "%.4f", estimate_.yaw_rate_rps);
+  stat.addf("gated wheel updates", "%lu", static_cast<unsigned long>(e.gatedWheelUpdates()));
+  if (!estimate_.valid) {
+    level = diagnostic_msgs::DiagnosticStatus::ERROR;
+    message << "no speed source: nothing published; ";
+  }
+  const std::string text = message.str();
+  stat.summary(static_cast<unsigned char>(level), text.empty() ? "all sensors fresh" : text);
+}
+
+void VehicleInputsNode::wheelDiagnostics(int wheel, diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  const WheelInputEstimate& w = estimate_.wheels[static_cast<std::size_t>(wheel)];
+  const bool publishable = wheelPublishable(estimate_, wheel);
+  int level = diagnostic_msgs::DiagnosticStatus::OK;
+  for (EstimateQuality q : {w.load_quality, w.slip_angle_quality, w.slip_ratio_quality})
+    if (q == EstimateQuality::kDegraded) level = std::max<int>(level, diagnostic_msgs::DiagnosticStatus::WARN);
+  if (!publishable) level = diagnostic_msgs::DiagnosticStatus::ERROR;
+  stat.addf("load [N]", "%.1f", w.load_n);
+  stat.addf("slip angle [rad]", "%.5f", w.slip_angle_rad);
+  stat.addf("slip ratio [-]", "%.5f", w.slip_ratio);
+  stat.addf("path curvature [1/m]", "%.5f", w.path_curvature_per_m);
+  stat.addf("speed [m/s]", "%.3f", w.speed_mps);
+  stat.addf("steer angle [rad]", "%.5f", w.steer_angle_rad);
+  stat.addf("rolling radius [m]", "%.5f", w.rolling_radius_m);
+  stat.add("radius converged", estimator_->radiusConverged(wheel));
+  stat.add("load quality", estimateQualityName(w.load_quality));
+  stat.add("slip angle quality", estimateQualityName(w.slip_angle_quality));
+  stat.add("slip ratio quality", estimateQualityName(w.slip_ratio_quality));
+  stat.addf("flags", "0x%x", w.flags);
+  stat.addf("published cycles", "%lu", static_cast<unsigned long>(stats_.published[static_cast<std::size_t>(wheel)]));
+  stat.addf("withheld cycles", "%lu", static_cast<unsigned long>(stats_.withheld[static_cast<std::size_t>(wheel)]));
+  std::string text = publishable ? (level == 0 ? "ok" : "degraded (fallback in use)") : "invalid: not published";
+  if (w.flags & kFlagNoImu) text += "; no IMU";
+  if (w.flags & kFlagWheelSpeedMissing) text += "; wheel speed missing";
+  if (w.flags & kFlagWheelFrozen) text += "; wheel speed frozen";
+  if (w.flags & kFlagSteeringModel) text += "; steering from the single-track model";
+  if (w.flags & kFlagRadiusNotConverged) text += "; radius not converged";
+  if (w.flags & kFlagLowSpeed) text += "; low speed";
+  stat.summary(static_cast<unsigned char>(level), text);
+}
+
+void VehicleInputsNode::cycleDiagnostics(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  stat.addf("cycles", "%lu", static_cast<unsigned long>(stats_.cycles));
+  stat.addf("publish rate [Hz]", "%.1f", config_.publish_rate_hz);
+  stat.addf("last cycle CPU [us]", "%.1f", stats_.last_cpu_us);
+  stat.addf("mean cycle CPU [us]", "%.1f", stats_.cycles ? stats_.sum_cpu_us / stats_.cycles : 0.0);
+  stat.addf("max cycle CPU [us]", "%.1f", stats_.max_cpu_us);
+  stat.addf("last cycle wall [us]", "%.1f", stats_.last_wall_us);
+  stat.addf("max cycle wall [us]", "%.1f", stats_.max_wall_us);
+  stat.addf("deadline overruns", "%lu", static_cast<unsigned long>(stats_.overruns));
+  stat.addf("skipped publications", "%lu", static_cast<unsigned long>(stats_.skipped_publications));
+  stat.addf("clock faults", "%lu", static_cast<unsigned long>(stats_.clock_faults));
+  stat.addf("cycles without speed source", "%lu", static_cast<unsigned long>(stats_.invalid_cycles));
+  if (stats_.clock_faults > 0)
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "clock went backwards: estimate refused");
+  else if (stats_.overruns > 0)
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "deadline overruns");
+  else
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "on time");
+}
+
+void VehicleInputsNode::radiusDiagnostics(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  stat.add("radius_file", config_.radius_file.empty() ? std::string("(none)") : config_.radius_file);
+  stat.add("restore", radius_restore_);
+  if (!last_save_.isZero()) stat.addf("seconds since last save", "%.1f", (ros::WallTime::now() - last_save_).toSec());
+  for (int i = 0; i < kWheelCount; ++i) {
+    const RollingRadiusState& s = estimator_->rollingRadii()[static_cast<std::size_t>(i)];
+    stat.addf(config_.wheel_names[i] + " radius [m]", "%.5f", s.radius_m);
+    stat.addf(config_.wheel_names[i] + " learned distance [m]", "%.1f", s.learned_distance_m);
+  }
+  if (!radius_save_error_.empty())
+    stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "save failed: " + radius_save_error_);
+  else if (radius_restore_ == "invalid" || radius_restore_ == "rejected")
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "saved radii " + radius_restore_ + ": nominal radii");
+  else
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "restore: " + radius_restore_);
+}
+
+}  // namespace tread_wear

@@ -1,0 +1,140 @@
+// vehicle_inputs_node's parts without a master: the configuration's validate() errors (each names key, value and
+// constraint), the rolling-radius file (round trip, missing, bad), and the per-wheel publish rule and quality fill.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include "common/temp_file.h"
+#include "tread_wear/io/rolling_radius_store.h"
+#include "tread_wear/io/vehicle_params_io.h"
+#include "tread_wear/ros/vehicle_inputs_config.h"
+#include "tread_wear/ros/vehicle_inputs_node.h"
+
+namespace tread_wear {
+namespace {
+
+VehicleInputsConfig validConfig() {
+  VehicleInputsConfig c;
+  c.vehicle_params_file = std::string(TREAD_WEAR_SOURCE_DIR) + "/config/vehicle_passenger_car.yaml";
+  c.estimator.vehicle = loadVehicleParams(c.vehicle_params_file);
+  return c;
+}
+
+std::string errorOf(const VehicleInputsConfig& c) {
+  std::string error;
+  EXPECT_FALSE(c.validate(&error));
+  return error;
+}
+
+TEST(VehicleInputsConfig, DefaultsWithTheShippedVehicleAreValid) {
+  std::string error;
+  EXPECT_TRUE(validConfig().validate(&error)) << error;
+  EXPECT_NE(validConfig().describe().find("speed_source: odom"), std::string::npos);
+}
+
+TEST(VehicleInputsConfig, EveryBadValueIsNamed) {
+  VehicleInputsConfig c = validConfig();
+  c.publish_rate_hz = 0.0;
+  EXPECT_EQ(errorOf(c), "publish_rate_hz = 0: must be in (0, 1000] [Hz]");
+  c = validConfig();
+  c.publish_rate_hz = 5000.0;
+  EXPECT_NE(errorOf(c).find("publish_rate_hz = 5000"), std::string::npos);
+  c = validConfig();
+  c.speed_source = "gnss";
+  EXPECT_EQ(errorOf(c), "speed_source = 'gnss': must be odom or twist");
+  c = validConfig();
+  c.base_frame = "";
+  EXPECT_EQ(errorOf(c), "base_frame: must not be empty");
+  c = validConfig();
+  c.wheel_joints[2] = c.wheel_joints[0];
+  EXPECT_NE(errorOf(c).find("wheel_joints = 'wheel_front_left_joint': must be non-empty and unique"),
+            std::string::npos);
+  c = validConfig();
+  c.wheel_names[3] = "";
+  EXPECT_NE(errorOf(c).find("wheel_names"), std::string::npos);
+  c = validConfig();
+  c.steering_joint = c.wheel_joints[1];
+  EXPECT_NE(errorOf(c).find("steering_joint = 'wheel_front_right_joint'"), std::string::npos);
+  c = validConfig();
+  c.tf_timeout_s = 2.0;
+  EXPECT_NE(errorOf(c).find("tf_timeout_s = 2"), std::string::npos);
+  c = validConfig();
+  c.save_interval_s = 0.0;
+  EXPECT_NE(errorOf(c).find("save_interval_s = 0"), std::string::npos);
+  c = validConfig();
+  c.cog_position_m[1] = std::nan("");
+  EXPECT_NE(errorOf(c).find("cog_position_m"), std::string::npos);
+  // The estimator's own validate(), prefixed with estimator/.
+  c = validConfig();
+  c.estimator.steering_ratio = -1.0;
+  EXPECT_EQ(errorOf(c).rfind("estimator: ", 0), 0u);
+  EXPECT_NE(errorOf(c).find("steering_ratio"), std::string::npos);
+  c = validConfig();
+  c.estimator.imu_timeout_s = 0.0;
+  EXPECT_NE(errorOf(c).find("imu_timeout_s"), std::string::npos);
+}
+
+TEST(RollingRadiusStore, RoundTripMissingAndBadFiles) {
+  const std::array<std::string, kWheelCount> names{{"front_left", "front_right", "rear_left", "rear_right"}};
+  std::array<RollingRadiusState, kWheelCount> state{};
+  for (int i = 0; i < kWheelCount; ++i) state[i] = {0.30 + 0.001 * i, 1234.5 + i};
+  const std::string path = testing::TempDir() + "tread_wear_radii_test.json";
+  std::remove(path.c_str());
+  std::array<RollingRadiusState, kWheelCount> loaded{};
+  std::string error;
+  EXPECT_EQ(loadRollingRadii(path, names, &loaded, &error), RadiusLoadStatus::kMissing);
+  ASSERT_TRUE(saveRollingRadii(path, names, state, 1.7e9, &error)) << error;
+  ASSERT_EQ(loadRollingRadii(path, names, &loaded, &error), RadiusLoadStatus::kLoaded) << error;
+  for (int i = 0; i < kWheelCount; ++i) {
+    EXPECT_EQ(loaded[i].radius_m, state[i].radius_m);
+    EXPECT_EQ(loaded[i].learned_distance_m, state[i].learned_distance_m);
+  }
+  std::remove(path.c_str());
+  TempFile garbage("{not json", ".json");
+  EXPECT_EQ(loadRollingRadii(garbage.path(), names, &loaded, &error), RadiusLoadStatus::kInvalid);
+  std::string text = rollingRadiiJson(names, state, 0.0);
+  const std::string first = "\"radius_m\": 0.3\n";
+  const std::size_t at = text.find(first);
+  ASSERT_NE(at, std::string::npos) << text;
+  text.replace(at, first.size(), "\"radius_m\": -0.3\n");
+  EXPECT_FALSE(parseRollingRadiiJson(text, names, &loaded, &error));
+  EXPECT_NE(error.find("front_left"), std::string::npos) << error;
+  std::array<std::string, kWheelCount> other = names;
+  other[3] = "spare";
+  EXPECT_FALSE(parseRollingRadiiJson(rollingRadiiJson(names, state, 0.0), other, &loaded, &error));
+  EXPECT_EQ(error, "wheel spare missing");
+}
+
+TEST(VehicleInputsNodeParts, InvalidWheelIsNotPublishableAndItsQualityIsFilled) {
+  VehicleInputEstimate e;
+  e.valid = true;
+  for (auto& w : e.wheels) {
+    w.load_quality = w.slip_angle_quality = w.slip_ratio_quality = EstimateQuality::kGood;
+    w.load_n = 4000.0;
+    w.speed_mps = 10.0;
+  }
+  EXPECT_TRUE(wheelPublishable(e, 0));
+  e.wheels[1].slip_ratio_quality = EstimateQuality::kInvalid;
+  e.wheels[1].slip_ratio = std::nan("");
+  e.wheels[1].flags = kFlagWheelSpeedMissing;
+  EXPECT_FALSE(wheelPublishable(e, 1));
+  tread_wear::WheelInputQuality q;
+  fillInputQuality(e, 1, false, &q);
+  EXPECT_EQ(q.slip_ratio_quality, tread_wear::WheelInputQuality::QUALITY_INVALID);
+  EXPECT_EQ(q.flags, tread_wear::WheelInputQuality::FLAG_WHEEL_SPEED_MISSING);
+  EXPECT_FALSE(q.published);
+  e.valid = false;  // no speed source: nothing is publishable, every quality invalid
+  EXPECT_FALSE(wheelPublishable(e, 0));
+  fillInputQuality(e, 0, false, &q);
+  EXPECT_EQ(q.load_quality, tread_wear::WheelInputQuality::QUALITY_INVALID);
+  // The message's constants are the estimator's enumerations.
+  EXPECT_EQ(tread_wear::WheelInputQuality::FLAG_NO_IMU, static_cast<unsigned>(kFlagNoImu));
+  EXPECT_EQ(tread_wear::WheelInputQuality::FLAG_LOW_SPEED, static_cast<unsigned>(kFlagLowSpeed));
+  EXPECT_EQ(tread_wear::WheelInputQuality::QUALITY_LOW_SPEED, static_cast<int>(EstimateQuality::kLowSpeed));
+}
+
+}  // namespace
+}  // namespace tread_wear
