@@ -144,6 +144,8 @@ def main():
                     help="nominal rolling radius [m] that turns CAN wheel speed [m/s] into rad/s (225/65 R17: "
                          "0.35 m; the estimator learns the true one)")
     ap.add_argument("--report", help="write the mount estimate and the data checks as JSON here")
+    ap.add_argument("--mount-yaw-deg", type=float,
+                    help="publish this mount yaw instead of the estimate (sensitivity studies; roll and pitch kept)")
     args = ap.parse_args()
     d = args.data
 
@@ -220,6 +222,13 @@ def main():
     print("  fused pose cross-check (the pose's device frame, same convention): pitch relative to the road's grade "
           "%.2f deg, roll relative to level (includes crossfall) %.2f deg, yaw from the direction of travel (sideslip "
           "taken as 0) %.2f deg" % (pose_pitch_rel, pose_roll, pose_yaw))
+
+    if args.mount_yaw_deg is not None:
+        dyaw = math.radians(args.mount_yaw_deg) - math.atan2(r_m[1, 0], r_m[0, 0])
+        rz = np.array([[math.cos(dyaw), -math.sin(dyaw), 0.0], [math.sin(dyaw), math.cos(dyaw), 0.0], [0, 0, 1.0]])
+        r_m = rz @ r_m
+        print("  OVERRIDE: mount yaw set to %.2f deg (--mount-yaw-deg); published roll %.2f, pitch %.2f, yaw %.2f deg"
+              % ((args.mount_yaw_deg,) + euler_deg(r_m)))
 
     # --- data checks ---
     whl_at_spd = np.array([np.interp(t_spd, t_whl, whl[:, i]) for i in range(4)]).T

@@ -8,7 +8,8 @@
 #   4. checks + plots (/usr/bin/python3, numpy, matplotlib): loads vs weight, slip ratios by driving phase, slip
 #      angles vs the fused pose, wear per wheel -> OUT_DIR/real_car_checks.json and OUT_DIR/real_car_*.png
 # Usage: scripts/real_car_demo.sh [OUT_DIR]   (default out/real_car; tools from $TREAD_WEAR_BIN, default
-#        _build_sens/devel/lib/tread_wear, falling back to _build/devel/lib/tread_wear)
+#        _build_sens/devel/lib/tread_wear, falling back to _build/devel/lib/tread_wear; extra converter options in
+#        $REAL_CAR_CONVERT_ARGS, e.g. "--mount-yaw-deg 0.82" for the mount-yaw sensitivity of docs/real_car.md)
 set -euo pipefail
 repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "${repo_root}"
@@ -31,7 +32,7 @@ steering_ratio=14.5  # end-to-end specification (config/vehicle_rav4_2017.yaml)
 
 echo "[real_car] 1/4 converting data/real/comma2k19_rav4_segment -> ${out_dir}/rav4_sensors.bag"
 /usr/bin/python3 scripts/comma2k19_to_bag.py --out "${out_dir}/rav4_sensors.bag" --rolling-radius "${radius}" \
-  --report "${out_dir}/conversion.json" | tee "${out_dir}/conversion.log"
+  --report "${out_dir}/conversion.json" ${REAL_CAR_CONVERT_ARGS:-} | tee "${out_dir}/conversion.log"
 
 echo "[real_car] 2/4 front end: ${bin}/tread_wear_vehicle_inputs (100 Hz)"
 "${bin}/tread_wear_vehicle_inputs" "${out_dir}/rav4_sensors.bag" "${out_dir}/rav4_inputs.bag" --vehicle "${vehicle}" \
