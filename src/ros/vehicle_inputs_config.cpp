@@ -93,6 +93,7 @@ bool VehicleInputsConfig::validate(std::string* error) const {
     }
   if (!uniqueNonEmpty(wheel_names, "wheel_names", error)) return false;
   if (!uniqueNonEmpty(wheel_joints, "wheel_joints", error)) return false;
+  if (!uniqueNonEmpty(wheel_frames, "wheel_frames", error)) return false;
   if (steering_joint.empty()) {
     *error = "steering_joint: must not be empty";
     return false;
@@ -114,6 +115,10 @@ bool VehicleInputsConfig::validate(std::string* error) const {
     *error = "diagnostic_period_s = " + number(diagnostic_period_s) + ": must be > 0 [s]";
     return false;
   }
+  if (!(marker_rate_hz >= 0.0 && marker_rate_hz <= publish_rate_hz)) {
+    *error = "marker_rate_hz = " + number(marker_rate_hz) + ": must be in [0, publish_rate_hz] [Hz]";
+    return false;
+  }
   std::string estimator_error;
   if (!estimator.validate(&estimator_error)) {
     *error = "estimator: " + estimator_error;
@@ -126,10 +131,12 @@ std::string VehicleInputsConfig::describe() const {
   std::ostringstream s;
   s << "publish_rate_hz: " << publish_rate_hz << "\nspeed_source: " << speed_source << "\nbase_frame: " << base_frame
     << "\ncog_position_m: [" << cog_position_m[0] << ", " << cog_position_m[1] << ", " << cog_position_m[2] << "]";
-  for (int i = 0; i < kWheelCount; ++i) s << "\nwheel " << wheel_names[i] << ": joint " << wheel_joints[i];
+  for (int i = 0; i < kWheelCount; ++i)
+    s << "\nwheel " << wheel_names[i] << ": joint " << wheel_joints[i] << ", frame " << wheel_frames[i];
   s << "\nsteering_joint: " << steering_joint << "\ntf_timeout_s: " << tf_timeout_s
     << "\nvehicle_params_file: " << vehicle_params_file << " (" << estimator.vehicle.name << ")"
-    << "\nradius_file: " << (radius_file.empty() ? "(none)" : radius_file) << "\nsave_interval_s: " << save_interval_s;
+    << "\nradius_file: " << (radius_file.empty() ? "(none)" : radius_file) << "\nsave_interval_s: " << save_interval_s
+    << "\nmarker_rate_hz: " << marker_rate_hz;
   const VehicleInputEstimatorParams& e = estimator;
   s << "\nestimator/steering_ratio: " << e.steering_ratio << "\nestimator/steering_offset_rad: "
     << e.steering_offset_rad << "\nestimator/ackermann_share: " << e.ackermann_share << "\nestimator/wheel_radius_m: ["
@@ -161,9 +168,11 @@ bool loadVehicleInputsConfig(const ros::NodeHandle& pnh, VehicleInputsConfig* co
       read(pnh, "publish_rate_hz", &c.publish_rate_hz, error) && read(pnh, "speed_source", &c.speed_source, error) &&
       read(pnh, "base_frame", &c.base_frame, error) && read(pnh, "cog_position_m", &c.cog_position_m, error) &&
       read(pnh, "wheel_names", &c.wheel_names, error) && read(pnh, "wheel_joints", &c.wheel_joints, error) &&
+      read(pnh, "wheel_frames", &c.wheel_frames, error) &&
       read(pnh, "steering_joint", &c.steering_joint, error) && read(pnh, "tf_timeout_s", &c.tf_timeout_s, error) &&
       read(pnh, "radius_file", &c.radius_file, error) && read(pnh, "save_interval_s", &c.save_interval_s, error) &&
       read(pnh, "diagnostic_period_s", &c.diagnostic_period_s, error) &&
+      read(pnh, "marker_rate_hz", &c.marker_rate_hz, error) &&
       read(pnh, "estimator/accel_bias_mps2", &e.accel_bias_mps2, error) &&
       read(pnh, "estimator/gyro_bias_rps", &e.gyro_bias_rps, error) &&
       read(pnh, "estimator/gyro_bias_time_constant_s", &e.gyro_bias_time_constant_s, error) &&

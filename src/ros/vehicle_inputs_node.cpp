@@ -2,7 +2,11 @@
 
 #include <time.h>
 
+#include <tf2/LinearMath/Quaternion.h>
+
+#include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <sstream>
 
@@ -47,7 +51,102 @@ const char* fallbackOf(Sensor s) {
   return "";
 }
 
+std_msgs::ColorRGBA rgba(double r, double g, double b, double a) {
+  std_msgs::ColorRGBA c;
+  c.r = static_cast<float>(r);
+  c.g = static_cast<float>(g);
+  c.b = static_cast<float>(b);
+  c.a = static_cast<float>(a);
+  return c;
+}
+
 }  // namespace
+
+void appendVehicleMarkers(const VehicleInputsConfig& config, const VehicleInputEstimate& estimate,
+                          const std::array<WheelWearView, kWheelCount>& wear, const ros::Time& stamp,
+                          visualization_msgs::MarkerArray* array) {
+  const VehicleParams& v = config.estimator.vehicle;
+  const double cx = config.cog_position_m[0], cy = config.cog_position_m[1];
+  const double lf = v.cog_to_front_axle_m, lr = v.cogToRearAxle_m();
+  const std::array<double, kWheelCount> x{{cx + lf, cx + lf, cx - lr, cx - lr}};
+  const std::array<double, kWheelCount> y{
+      {cy + v.track_front_m / 2, cy - v.track_front_m / 2, cy + v.track_rear_m / 2, cy - v.track_rear_m / 2}};
+  const double radius = config.estimator.wheel_radius_m[0];
+  visualization_msgs::Marker m;
+  m.header.frame_id = config.base_frame;
+  m.header.stamp = stamp;
+  m.action = visualization_msgs::Marker::ADD;
+  m.ns = "vehicle/body";
+  m.id = 0;
+  m.type = visualization_msgs::Marker::CUBE;
+  m.pose.position.x = cx + 0.5 * (lf - lr);
+  m.pose.position.y = cy;
+  m.pose.position.z = radius + 0.35;
+  m.pose.orientation.w = 1.0;
+  m.scale.x = v.wheelbase_m + 2.0 * radius + 0.6;
+  m.scale.y = std::max(v.track_front_m, v.track_rear_m) + 0.1;
+  m.scale.z = 0.5;
+  m.color = rgba(0.55, 0.6, 0.7, 0.25);
+  array->markers.push_back(m);
+  for (int i = 0; i < kWheelCount; ++i) {
+    visualization_msgs::Marker w = m;
+    w.ns = "vehicle/wheels";
+    w.id = i;
+    w.type = visualization_msgs::Marker::CYLINDER;
+    w.pose.position.x = x[i];
+    w.pose.position.y = y[i];
+    w.pose.position.z = radius;
+    // Cylinder axis (z) along the wheel's axle: roll by 90 deg, then yaw by the steer angle.
+    const double steer = std::isfinite(estimate.wheels[i].steer_angle_rad) ? estimate.wheels[i].steer_angle_rad : 0.0;
+    tf2::Quaternion q;
+    q.setRPY(M_PI / 2.0, 0.0, steer);
+    w.pose.orientation.x = q.x();
+    w.pose.orientation.y = q.y();
+    w.pose.orientation.z = q.z();
+    w.pose.orientation.w = q.w();
+    w.scale.x = w.scale.y = 2.0 * radius;
+    w.scale.z = 0.2;
+    w.color = rgba(0.15, 0.15, 0.15, 0.6);
+    array->markers.push_back(w);
+  }
+  visualization_msgs::Marker label = m;
+  label.ns = "vehicle/label";
+  label.id = 0;
+  label.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
+  label.pose.position.z = radius + 1.0;
+  label.scale.x = label.scale.y = 0.0;
+  label.scale.z = 0.18;
+  label.color = rgba(1.0, 1.0, 1.0, 1.0);
+  char text[256];
+  std::snprintf(text, sizeof(text), "v %.1f m/s, r %.3f rad/s\nf_x %.2f, f_y %.2f m/s^2\nspeed: %s, yaw: %s, accel: %s",
+                estimate.speed_mps, estimate.yaw_rate_rps, estimate.long_specific_force_mps2,
+                estimate.lat_specific_force_mps2, speedSourceName(estimate.speed_source),
+                yawRateSourceName(estimate.yaw_rate_source), accelSourceName(estimate.accel_source));
+  label.text = estimate.valid ? text : "no speed source: nothing published";
+  array->markers.push_back(label);
+  for (int i = 0; i < kWheelCount; ++i) {
+    // Beside the tire, outboard, above the road: readable from above at the scale of the car.
+    const WheelInputEstimate& w = estimate.wheels[static_cast<std::size_t>(i)];
+    visualization_msgs::Marker l = label;
+    l.header.frame_id = config.wheel_frames[static_cast<std::size_t>(i)];
+    l.ns = "vehicle/wheel_labels";
+    l.id = i;
+    l.pose.position.x = 0.0;
+    l.pose.position.y = (i % 2 == 0) ? 0.75 : -0.75;
+    l.pose.position.z = 0.3;
+    l.scale.z = 0.14;
+    int n = std::snprintf(text, sizeof(text), "%s\nFz %.2f kN\nalpha %.2f deg, kappa %.4f",
+                          config.wheel_names[static_cast<std::size_t>(i)].c_str(), w.load_n * 1e-3,
+                          w.slip_angle_rad * 180.0 / M_PI, w.slip_ratio);
+    const WheelWearView& v = wear[static_cast<std::size_t>(i)];
+    if (n > 0 && n < static_cast<int>(sizeof(text)) && std::isfinite(v.wear_rate_kg_per_m))
+      std::snprintf(text + n, sizeof(text) - static_cast<std::size_t>(n), "\nwear %.2f mg/km, loss %.3f mg",
+                    v.wear_rate_kg_per_m * 1e9, v.accumulated_loss_kg * 1e6);
+    l.text = text;
+    l.color = wheelPublishable(estimate, i) ? rgba(1.0, 1.0, 0.6, 1.0) : rgba(1.0, 0.4, 0.4, 1.0);
+    array->markers.push_back(l);
+  }
+}
 
 bool wheelPublishable(const VehicleInputEstimate& e, int wheel) {
   if (!e.valid) return false;
@@ -147,6 +246,17 @@ bool VehicleInputsNode::initialize() {
     save_timer_ = nh_.createWallTimer(ros::WallDuration(config_.save_interval_s),
                                       [this](const ros::WallTimerEvent&) { saveRadii("periodic"); });
   cycle_timer_ = nh_.createTimer(ros::Duration(1.0 / config_.publish_rate_hz), &VehicleInputsNode::cycle, this);
+  if (config_.marker_rate_hz > 0.0) {
+    marker_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("vehicle_markers", 1);
+    for (int i = 0; i < kWheelCount; ++i)
+      wear_subs_[static_cast<std::size_t>(i)] = nh_.subscribe<tread_wear::WheelWear>(
+          "wheels/" + config_.wheel_names[i] + "/wear", 1, [this, i](const tread_wear::WheelWear::ConstPtr& m) {
+            wear_[static_cast<std::size_t>(i)].wear_rate_kg_per_m = m->wear_rate_kg_per_m;
+            wear_[static_cast<std::size_t>(i)].accumulated_loss_kg = m->accumulated_loss_kg;
+          });
+    marker_timer_ =
+        nh_.createTimer(ros::Duration(1.0 / config_.marker_rate_hz), &VehicleInputsNode::publishMarkers, this);
+  }
   return true;
 }
 
@@ -154,6 +264,7 @@ void VehicleInputsNode::shutdown() {
   if (shut_down_ || !estimator_) return;
   shut_down_ = true;
   cycle_timer_.stop();
+  marker_timer_.stop();
   diagnostics_timer_.stop();
   save_timer_.stop();
   saveRadii("shutdown");
@@ -338,6 +449,13 @@ void VehicleInputsNode::cycle(const ros::TimerEvent& event) {
   if (wall_us > stats_.max_wall_us) stats_.max_wall_us = wall_us;
   if (wall_us > 1e6 * period_s) overrun = true;
   if (overrun) ++stats_.overruns;
+}
+
+void VehicleInputsNode::publishMarkers(const ros::TimerEvent&) {
+  if (marker_pub_.getNumSubscribers() == 0) return;
+  visualization_msgs::MarkerArray array;
+  appendVehicleMarkers(config_, estimate_, wear_, ros::Time::now(), &array);
+  marker_pub_.publish(array);
 }
 
 void VehicleInputsNode::saveRadii(const char* why) {

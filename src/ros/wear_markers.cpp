@@ -68,7 +68,7 @@ visualization_msgs::Marker base(const std::string& ns, const std::string& frame_
 
 void appendWheelMarkers(const std::string& wheel, const std::string& frame_id, const ros::Time& stamp,
                         const PatchFields& fields, const WearResult& result, const WheelOutput& output,
-                        visualization_msgs::MarkerArray* array) {
+                        visualization_msgs::MarkerArray* array, const WheelInputs* inputs) {
   const int nx = fields.n_x_nodes, ny = fields.n_strips;
   const double b = result.half_width_m;
   if (nx >= 2 && ny >= 1 && b > 0.0) {
@@ -111,10 +111,17 @@ void appendWheelMarkers(const std::string& wheel, const std::string& frame_id, c
   label.pose.position.x = result.half_length_m + 1.5 * text_height_m;
   label.pose.position.y = 1.25 * b;
   label.scale.z = text_height_m;
-  char text[256];
-  std::snprintf(text, sizeof(text), "%s (%s)\n%.3f mg, %.3f km, slide %.0f%%", wheel.c_str(),
-                wheelStatusName(output.status), output.accumulated_loss_kg * 1e6, output.distance_m * 1e-3,
-                100.0 * output.result.slide_fraction);
+  char text[384];
+  int n = std::snprintf(text, sizeof(text), "%s (%s)\n%.3f mg, %.3f km, slide %.0f%%", wheel.c_str(),
+                        wheelStatusName(output.status), output.accumulated_loss_kg * 1e6, output.distance_m * 1e-3,
+                        100.0 * output.result.slide_fraction);
+  if (inputs != nullptr && n > 0 && n < static_cast<int>(sizeof(text))) {
+    // Why it wears: the step's inputs and the wear rate they give.
+    std::snprintf(text + n, sizeof(text) - static_cast<std::size_t>(n),
+                  "\nFz %.2f kN, alpha %.2f deg, kappa %.4f\nwear %.2f mg/km", inputs->load_n() * 1e-3,
+                  inputs->slipAngle_rad() * 180.0 / M_PI, inputs->slipRatio(),
+                  output.result.wear_rate_kg_per_m * 1e9);
+  }
   label.text = text;
   array->markers.push_back(label);
 }
@@ -139,7 +146,7 @@ void WearMarkers::build(const ros::Time& stamp, visualization_msgs::MarkerArray*
       w.fields.resize(0, 0);
     }
     const WheelConfig& c = w.pipeline->config();
-    appendWheelMarkers(c.name, c.frame_id, stamp, w.fields, result, s.output, array);
+    appendWheelMarkers(c.name, c.frame_id, stamp, w.fields, result, s.output, array, &s.step_inputs);
   }
 }
 

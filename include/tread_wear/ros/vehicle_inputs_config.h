@@ -23,6 +23,8 @@ struct VehicleInputsConfig {
   std::array<std::string, kWheelCount> wheel_names{{"front_left", "front_right", "rear_left", "rear_right"}};
   std::array<std::string, kWheelCount> wheel_joints{
       {"wheel_front_left_joint", "wheel_front_right_joint", "wheel_rear_left_joint", "wheel_rear_right_joint"}};
+  std::array<std::string, kWheelCount> wheel_frames{
+      {"wheel_front_left", "wheel_front_right", "wheel_rear_left", "wheel_rear_right"}};  ///< for the rviz labels
   std::string steering_joint = "steering_wheel_joint";  ///< steering-wheel joint, position [rad], > 0 left
   double tf_timeout_s = 0.0;               ///< wait for a sensor transform in its callback [s], [0, 1] (blocks the
                                            ///< callbacks and the cycle: keep 0 unless the transform comes late)
@@ -30,6 +32,7 @@ struct VehicleInputsConfig {
   std::string radius_file;                 ///< learned rolling radii (JSON); empty = not persisted
   double save_interval_s = 30.0;           ///< period of radius saves (wall clock) [s], > 0; also on shutdown
   double diagnostic_period_s = 1.0;        ///< /diagnostics period [s], > 0
+  double marker_rate_hz = 5.0;             ///< rviz `vehicle_markers` rate [Hz], 0 = off, <= publish_rate_hz
   VehicleInputEstimatorParams estimator;   ///< vehicle part from vehicle_params_file, the rest under estimator/
 
   /// Names the key, the value and the broken constraint of the first invalid setting.

@@ -21,9 +21,11 @@
 #include <tf2/LinearMath/Matrix3x3.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
+#include <visualization_msgs/MarkerArray.h>
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -31,6 +33,7 @@
 #include "tread_wear/WheelLoad.h"
 #include "tread_wear/WheelSlip.h"
 #include "tread_wear/WheelSpeed.h"
+#include "tread_wear/WheelWear.h"
 #include "tread_wear/estimation/vehicle_input_estimator.h"
 #include "tread_wear/ros/realtime_publisher.h"
 #include "tread_wear/ros/vehicle_inputs_config.h"
@@ -43,6 +46,21 @@ void fillInputQuality(const VehicleInputEstimate& estimate, int wheel, bool publ
 /// True when every quantity the wear node needs of this wheel has a source (load, slip angle, slip ratio valid
 /// and finite, speed and curvature finite) and the estimate as a whole is valid.
 bool wheelPublishable(const VehicleInputEstimate& estimate, int wheel);
+
+/// rviz markers of the car in base_frame (not real-time; allocates): ns "vehicle/body" a translucent box over the
+/// wheelbase and tracks, "vehicle/wheels" the four wheels (cylinders at the wheel centres, the front ones turned by
+/// their steer angle), "vehicle/label" speed [m/s], yaw rate [rad/s], lateral and longitudinal specific force
+/// [m/s^2] and the sources in use. Wheel x = cog_x + l_f | cog_x - l_r, y = cog_y +- t/2.
+/// ns "vehicle/wheel_labels": per wheel, in its wheel frame (config.wheel_frames) beside the tire: name, load [kN],
+/// slip angle [deg], slip ratio [-] and, when known (finite), the wear node's wear rate [mg/km] and accumulated
+/// loss [mg].
+struct WheelWearView {
+  double wear_rate_kg_per_m = std::numeric_limits<double>::quiet_NaN();  ///< W_r from wheels/<name>/wear [kg/m]
+  double accumulated_loss_kg = std::numeric_limits<double>::quiet_NaN(); ///< [kg]
+};
+void appendVehicleMarkers(const VehicleInputsConfig& config, const VehicleInputEstimate& estimate,
+                          const std::array<WheelWearView, kWheelCount>& wear, const ros::Time& stamp,
+                          visualization_msgs::MarkerArray* array);
 
 /// Statistics of the publish cycle (read by the diagnostics on the same thread).
 struct CycleStats {
@@ -83,6 +101,7 @@ class VehicleInputsNode {
   void twistCallback(const geometry_msgs::TwistWithCovarianceStamped::ConstPtr& msg);
   void cycle(const ros::TimerEvent& event);
   void saveRadii(const char* why);
+  void publishMarkers(const ros::TimerEvent& event);
   void sensorDiagnostics(diagnostic_updater::DiagnosticStatusWrapper& stat);
   void wheelDiagnostics(int wheel, diagnostic_updater::DiagnosticStatusWrapper& stat);
   void cycleDiagnostics(diagnostic_updater::DiagnosticStatusWrapper& stat);
@@ -97,7 +116,10 @@ class VehicleInputsNode {
   ros::Subscriber imu_sub_, joint_sub_, speed_sub_;
   std::array<WheelPublishers, kWheelCount> publishers_;
   std::unique_ptr<diagnostic_updater::Updater> updater_;
-  ros::Timer cycle_timer_;
+  ros::Timer cycle_timer_, marker_timer_;
+  ros::Publisher marker_pub_;
+  std::array<ros::Subscriber, kWheelCount> wear_subs_;
+  std::array<WheelWearView, kWheelCount> wear_{};
   ros::WallTimer diagnostics_timer_, save_timer_;
   bool shut_down_ = false;
 

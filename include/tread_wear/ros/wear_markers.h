@@ -5,8 +5,9 @@
 ///                       (dark blue = lowest in the patch, yellow = highest);
 ///   ns "<wheel>/zones"  the same cells beside it (offset to +y by 2.5 b) coloured by contact state:
 ///                       green = exact stick, yellow = creep (0 < |v_s| <= v_m), red = slide (|v_s| > v_m);
-///   ns "<wheel>/label"  two lines ahead of both patches: wheel and status; accumulated loss [mg], distance [km],
-///                       slide fraction. Text height a quarter of the patch size, at least 1 cm.
+///   ns "<wheel>/label"  ahead of both patches: wheel and status; accumulated loss [mg], distance [km], slide
+///                       fraction; with the step's inputs also load [kN], slip angle [deg], slip ratio [-] and the
+///                       wear rate [mg/km] (why the wheel wears). Text height a quarter of the patch size, >= 1 cm.
 /// Not real-time code: called at the marker rate from a non-RT timer.
 
 #include <visualization_msgs/MarkerArray.h>
@@ -23,9 +24,10 @@ namespace tread_wear {
 
 /// Appends the wheel's three markers to *array (ids 0, 1, 2 in the wheel's namespaces).
 /// @param fields local fields of the last evaluation; when fields.n_x_nodes == 0 only the label is drawn.
+/// @param inputs the step's inputs (load, slips) for the label's second part; nullptr: two lines only.
 void appendWheelMarkers(const std::string& wheel, const std::string& frame_id, const ros::Time& stamp,
                         const PatchFields& fields, const WearResult& result, const WheelOutput& output,
-                        visualization_msgs::MarkerArray* array);
+                        visualization_msgs::MarkerArray* array, const WheelInputs* inputs = nullptr);
 
 /// The markers of every wheel's last loop step. The loop computes no local fields (they cost time the loop does
 /// not have), so each wheel's patch is evaluated again here, on a model of its own, at the operating point of that
