@@ -16,7 +16,7 @@ target_compile_definitions(test_node_parts PRIVATE TREAD_WEAR_NODE_BINARY="$<TAR
 add_dependencies(test_node_parts ${PROJECT_NAME}_node)
 # vehicle_inputs_node (docs/vehicle_inputs_node.md): the synthetic-sensor rostests and its parts without a master.
 add_rostest_gtest(test_vehicle_inputs test/ros/vehicle_inputs.test test/ros/test_vehicle_inputs.cpp)
-target_link_libraries(test_vehicle_inputs ${catkin_LIBRARIES})
+target_link_libraries(test_vehicle_inputs ${PROJECT_NAME}_io ${catkin_LIBRARIES})
 add_dependencies(test_vehicle_inputs ${PROJECT_NAME}_generate_messages_cpp vehicle_inputs_node)
 set_target_properties(test_vehicle_inputs PROPERTIES EXCLUDE_FROM_ALL OFF)
 add_rostest(test/ros/vehicle_inputs_no_tf.test DEPENDENCIES test_vehicle_inputs)

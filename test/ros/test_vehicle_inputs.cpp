@@ -13,6 +13,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -22,6 +23,7 @@
 #include "tread_wear/WheelLoad.h"
 #include "tread_wear/WheelSlip.h"
 #include "tread_wear/WheelSpeed.h"
+#include "tread_wear/io/rolling_radius_store.h"
 
 namespace {
 
@@ -288,6 +290,14 @@ TEST(VehicleInputsNoTf, MissingImuTransformIsADiagnosticAndTheImuIsNotUsed) {
   EXPECT_NE(s.message.find("no transform"), std::string::npos) << s.message;
   EXPECT_EQ(Harness::value(s, "imu samples without tf"), Harness::value(s, "imu samples received"));
   EXPECT_EQ(Harness::value(s, "imu tf").rfind("missing", 0), 0u) << Harness::value(s, "imu tf");
+  // The learned radii are saved (every save_interval_s = 0.5 s here) for the next start.
+  std::string file;
+  ASSERT_TRUE(ros::param::get("/radius_file_under_test", file));
+  std::array<tread_wear::RollingRadiusState, kWheels> radii{};
+  std::string error;
+  EXPECT_EQ(tread_wear::loadRollingRadii(file, kNames, &radii, &error), tread_wear::RadiusLoadStatus::kLoaded) << error;
+  for (const auto& r : radii) EXPECT_NEAR(r.radius_m, kRadius, 0.02);
+  std::remove(file.c_str());
   for (int i = 0; i < kWheels; ++i) {
     const WheelSeen w = harness->seen(i);
     ASSERT_GT(w.loads, 20) << kNames[i] << " qualities " << w.qualities << " load " << int(w.quality.load_quality)

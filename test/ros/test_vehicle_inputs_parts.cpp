@@ -12,6 +12,7 @@
 #include "tread_wear/io/vehicle_params_io.h"
 #include "tread_wear/ros/vehicle_inputs_config.h"
 #include "tread_wear/ros/vehicle_inputs_node.h"
+#include "tread_wear/ros/wear_markers.h"
 
 namespace tread_wear {
 namespace {
@@ -134,6 +135,63 @@ TEST(VehicleInputsNodeParts, InvalidWheelIsNotPublishableAndItsQualityIsFilled) 
   EXPECT_EQ(tread_wear::WheelInputQuality::FLAG_NO_IMU, static_cast<unsigned>(kFlagNoImu));
   EXPECT_EQ(tread_wear::WheelInputQuality::FLAG_LOW_SPEED, static_cast<unsigned>(kFlagLowSpeed));
   EXPECT_EQ(tread_wear::WheelInputQuality::QUALITY_LOW_SPEED, static_cast<int>(EstimateQuality::kLowSpeed));
+}
+
+TEST(VehicleMarkers, BodyWheelsAndPerWheelLabelsWithLoadSlipAndWear) {
+  const VehicleInputsConfig c = validConfig();
+  VehicleInputEstimate e;
+  e.valid = true;
+  e.speed_mps = 15.0;
+  for (auto& w : e.wheels) {
+    w.load_quality = w.slip_angle_quality = w.slip_ratio_quality = EstimateQuality::kGood;
+    w.load_n = 4250.0;
+    w.slip_angle_rad = -0.5 * M_PI / 180.0;
+    w.slip_ratio = 0.0012;
+    w.speed_mps = 15.0;
+  }
+  e.wheels[0].steer_angle_rad = 0.1;
+  std::array<WheelWearView, kWheelCount> wear{};
+  wear[1].wear_rate_kg_per_m = 12.5e-9;  // 12.5 mg/km
+  wear[1].accumulated_loss_kg = 0.25e-6;
+  visualization_msgs::MarkerArray a;
+  appendVehicleMarkers(c, e, wear, ros::Time(3.0), &a);
+  ASSERT_EQ(a.markers.size(), 1u + 4u + 1u + 4u);
+  EXPECT_EQ(a.markers[0].ns, "vehicle/body");
+  EXPECT_EQ(a.markers[0].header.frame_id, "base_link");
+  // Wheels at the vehicle's geometry about the CoG (base_link on the ground below it).
+  EXPECT_NEAR(a.markers[1].pose.position.x, 1.06, 1e-12);
+  EXPECT_NEAR(a.markers[1].pose.position.y, 0.775, 1e-12);
+  EXPECT_NEAR(a.markers[4].pose.position.x, -1.58, 1e-12);
+  EXPECT_NEAR(a.markers[4].pose.position.y, -0.76, 1e-12);
+  EXPECT_EQ(a.markers[5].ns, "vehicle/label");
+  EXPECT_EQ(a.markers[6].ns, "vehicle/wheel_labels");
+  EXPECT_EQ(a.markers[6].header.frame_id, "wheel_front_left");
+  EXPECT_EQ(a.markers[6].text, "front_left\nFz 4.25 kN\nalpha -0.50 deg, kappa 0.0012");
+  EXPECT_EQ(a.markers[7].text, "front_right\nFz 4.25 kN\nalpha -0.50 deg, kappa 0.0012\nwear 12.50 mg/km, loss 0.250 mg");
+  e.valid = false;  // nothing published: said in the label, labels red
+  visualization_msgs::MarkerArray b;
+  appendVehicleMarkers(c, e, wear, ros::Time(3.0), &b);
+  EXPECT_EQ(b.markers[5].text, "no speed source: nothing published");
+  EXPECT_GT(b.markers[6].color.r, 0.9f);
+  EXPECT_LT(b.markers[6].color.g, 0.5f);
+}
+
+TEST(WearMarkers, PatchLabelWithTheStepInputsSaysWhyTheWheelWears) {
+  WheelInputs inputs;
+  inputs.setLoad(1.0, 4250.0);
+  inputs.setSlip(1.0, -2.0 * M_PI / 180.0, 0.01, 0.0);
+  inputs.setSpeed(1.0, 15.0);
+  WheelOutput out;
+  out.status = WheelStatus::kOk;
+  out.accumulated_loss_kg = 1.5e-6;
+  out.distance_m = 2500.0;
+  out.result.wear_rate_kg_per_m = 8e-7;  // 800 mg/km
+  out.result.slide_fraction = 0.25;
+  visualization_msgs::MarkerArray a;
+  appendWheelMarkers("fl", "wheel_fl", ros::Time(1.0), PatchFields(), out.result, out, &a, &inputs);
+  ASSERT_EQ(a.markers.size(), 1u);
+  EXPECT_EQ(a.markers[0].text,
+            "fl (ok)\n1.500 mg, 2.500 km, slide 25%\nFz 4.25 kN, alpha -2.00 deg, kappa 0.0100\nwear 800.00 mg/km");
 }
 
 }  // namespace
