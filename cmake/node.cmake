@@ -30,6 +30,7 @@ install(TARGETS ${PROJECT_NAME}_node RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DE
 # The vehicle front end (docs/vehicle_inputs_node.md): sensor_msgs, nav_msgs and tf2 headers in ros/vehicle_inputs_*.
 find_package(sensor_msgs REQUIRED)
 find_package(nav_msgs REQUIRED)
+find_package(tf2_msgs REQUIRED)  # package.xml's build_depend (ros/bag's /tf_static records); headers in /usr/include
 target_include_directories(${PROJECT_NAME}_ros PRIVATE ${sensor_msgs_INCLUDE_DIRS} ${nav_msgs_INCLUDE_DIRS})
 add_executable(vehicle_inputs_node src/nodes/vehicle_inputs_node.cpp)
 target_include_directories(vehicle_inputs_node PRIVATE ${sensor_msgs_INCLUDE_DIRS} ${nav_msgs_INCLUDE_DIRS})

@@ -324,6 +324,13 @@ bool VehicleInputsNode::imuTransform(const std::string& frame_id) {
   return true;
 }
 
+void VehicleInputsNode::restartIfPending() {
+  if (!restart_pending_) return;
+  restart_pending_ = false;
+  ++restarts_;
+  rebuildEstimator();
+}
+
 void VehicleInputsNode::rebuildEstimator() {
   // Once, when the IMU's lever arm becomes known: a new estimator with the same learned radii.
   const std::array<RollingRadiusState, kWheelCount> radii = estimator_->rollingRadii();
@@ -333,6 +340,7 @@ void VehicleInputsNode::rebuildEstimator() {
 }
 
 void VehicleInputsNode::imuCallback(const sensor_msgs::Imu::ConstPtr& msg) {
+  restartIfPending();
   ++imu_received_;
   if (!imuTransform(msg->header.frame_id)) {
     ++imu_without_tf_;
@@ -346,6 +354,7 @@ void VehicleInputsNode::imuCallback(const sensor_msgs::Imu::ConstPtr& msg) {
 }
 
 void VehicleInputsNode::jointCallback(const sensor_msgs::JointState::ConstPtr& msg) {
+  restartIfPending();
   ++joint_received_;
   const double t = toEstimatorTime(msg->header.stamp);
   std::array<double, kWheelCount> omega{};
@@ -376,12 +385,14 @@ void VehicleInputsNode::jointCallback(const sensor_msgs::JointState::ConstPtr& m
 }
 
 void VehicleInputsNode::odomCallback(const nav_msgs::Odometry::ConstPtr& msg) {
+  restartIfPending();
   ++speed_received_;
   estimator_->addSpeed(toEstimatorTime(msg->header.stamp),
                        std::hypot(msg->twist.twist.linear.x, msg->twist.twist.linear.y));
 }
 
 void VehicleInputsNode::twistCallback(const geometry_msgs::TwistWithCovarianceStamped::ConstPtr& msg) {
+  restartIfPending();
   ++speed_received_;
   estimator_->addSpeed(toEstimatorTime(msg->header.stamp),
                        std::hypot(msg->twist.twist.linear.x, msg->twist.twist.linear.y));
@@ -393,7 +404,11 @@ void VehicleInputsNode::cycle(const ros::TimerEvent& event) {
   const double period_s = 1.0 / config_.publish_rate_hz;
   bool overrun = !event.last_real.isZero() && (event.current_real - event.current_expected).toSec() > period_s;
   const ros::Time now = event.current_real.isZero() ? ros::Time::now() : event.current_real;
-  if (!estimator_->estimate(toEstimatorTime(now), &estimate_)) ++stats_.clock_faults;
+  if (!estimator_->estimate(toEstimatorTime(now), &estimate_)) {
+    // The clock went backwards (a looped bag, a sim-time reset): the next callback restarts the estimator.
+    ++stats_.clock_faults;
+    restart_pending_ = true;
+  }
   if (!estimate_.valid) ++stats_.invalid_cycles;
   for (int i = 0; i < kWheelCount; ++i) {
     const bool publish = wheelPublishable(estimate_, i);
@@ -562,9 +577,11 @@ void VehicleInputsNode::cycleDiagnostics(diagnostic_updater::DiagnosticStatusWra
   stat.addf("deadline overruns", "%lu", static_cast<unsigned long>(stats_.overruns));
   stat.addf("skipped publications", "%lu", static_cast<unsigned long>(stats_.skipped_publications));
   stat.addf("clock faults", "%lu", static_cast<unsigned long>(stats_.clock_faults));
+  stat.addf("estimator restarts", "%lu", static_cast<unsigned long>(restarts_));
   stat.addf("cycles without speed source", "%lu", static_cast<unsigned long>(stats_.invalid_cycles));
   if (stats_.clock_faults > 0)
-    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "clock went backwards: estimate refused");
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
+                 "clock went backwards: estimate refused, estimator restarted (learned radii kept)");
   else if (stats_.overruns > 0)
     stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "deadline overruns");
   else

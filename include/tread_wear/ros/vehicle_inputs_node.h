@@ -95,6 +95,8 @@ class VehicleInputsNode {
   double toEstimatorTime(const ros::Time& stamp);
   bool imuTransform(const std::string& frame_id);
   void rebuildEstimator();
+  /// After a backward clock step (cycle): a new estimator with the learned radii, from a callback (allocates).
+  void restartIfPending();
   void imuCallback(const sensor_msgs::Imu::ConstPtr& msg);
   void jointCallback(const sensor_msgs::JointState::ConstPtr& msg);
   void odomCallback(const nav_msgs::Odometry::ConstPtr& msg);
@@ -140,6 +142,8 @@ class VehicleInputsNode {
   std::array<std::uint64_t, kSensorCount> rejected_at_last_report_{};
 
   CycleStats stats_;
+  bool restart_pending_ = false;
+  std::uint64_t restarts_ = 0;
   ros::Time last_cycle_start_;
 
   // rolling radii persistence
