@@ -29,6 +29,8 @@ bool SensorModelParams::validate(std::string* error) const {
       return fail(error, "imu_mount_rpy_rad", imu_mount_rpy_rad[i], "finite, |.| <= pi");
     if (!std::isfinite(accel_bias_mps2[i])) return fail(error, "accel_bias_mps2", accel_bias_mps2[i], "finite");
     if (!std::isfinite(gyro_bias_rps[i])) return fail(error, "gyro_bias_rps", gyro_bias_rps[i], "finite");
+    if (!std::isfinite(imu_position_m[i]) || std::fabs(imu_position_m[i]) > 10.0)
+      return fail(error, "imu_position_m", imu_position_m[i], "finite, |.| <= 10 m");
   }
   if (!(imu_rate_hz > 0.0) || !std::isfinite(imu_rate_hz)) return fail(error, "imu_rate_hz", imu_rate_hz, "> 0");
   if (!(accel_noise_density >= 0.0)) return fail(error, "accel_noise_density", accel_noise_density, ">= 0");
@@ -89,11 +91,15 @@ std::array<double, 3> SensorModel::rpyOf(const std::array<double, 4>& q_in) {
   return {roll, pitch, yaw};
 }
 
-ImuReading SensorModel::imu(const VehicleMotion& motion, const VehicleState& state) {
+ImuReading SensorModel::imu(const VehicleMotion& motion, const VehicleState& state, double yaw_accel_rps2) {
   const double beta = state.sideslip_rad, a_x = motion.accel_mps2, a_y = state.lateral_accel_mps2;
-  const std::array<double, 3> f_body = {a_x * std::cos(beta) - a_y * std::sin(beta),
-                                        a_x * std::sin(beta) + a_y * std::cos(beta), gravity_mps2_};
-  const std::array<double, 3> w_body = {0.0, 0.0, std::max(motion.speed_mps, 0.0) * motion.path_curvature_per_m};
+  const double yaw = std::max(motion.speed_mps, 0.0) * motion.path_curvature_per_m;
+  const std::array<double, 3>& p = params_.imu_position_m;
+  // CoG specific force + r_dot x p + r x (r x p) for r = (0, 0, r).
+  const std::array<double, 3> f_body = {
+      a_x * std::cos(beta) - a_y * std::sin(beta) - yaw_accel_rps2 * p[1] - yaw * yaw * p[0],
+      a_x * std::sin(beta) + a_y * std::cos(beta) + yaw_accel_rps2 * p[0] - yaw * yaw * p[1], gravity_mps2_};
+  const std::array<double, 3> w_body = {0.0, 0.0, yaw};
   const double sigma_f = params_.accel_noise_density * std::sqrt(params_.imu_rate_hz);
   const double sigma_w = params_.gyro_noise_density * std::sqrt(params_.imu_rate_hz);
   ImuReading r;

@@ -64,7 +64,7 @@ TEST(SensorModel, ImuAtRestMeasuresTiltedGravityPlusBias) {
   VehicleState state;
   const VehicleMotion rest{0.0, 0.0, 0.0};
   vehicle.evaluate(rest, &state);
-  const ImuReading r = model.imu(rest, state);
+  const ImuReading r = model.imu(rest, state, 0.0);
   const auto R = SensorModel::mountRotation(p.imu_mount_rpy_rad);
   for (int j = 0; j < 3; ++j) {
     EXPECT_NEAR(r.specific_force_mps2[j], R[6 + j] * 9.81 + p.accel_bias_mps2[j], 1e-12);  // R^T (0, 0, g)
@@ -73,8 +73,26 @@ TEST(SensorModel, ImuAtRestMeasuresTiltedGravityPlusBias) {
   // Turning: yaw rate v kappa seen through the mount.
   const VehicleMotion turn{20.0, 0.0, 1.0 / 200.0};
   vehicle.evaluate(turn, &state);
-  const ImuReading t = model.imu(turn, state);
+  const ImuReading t = model.imu(turn, state, 0.0);
   for (int j = 0; j < 3; ++j) EXPECT_NEAR(t.angular_rate_rps[j], R[6 + j] * 0.1 + p.gyro_bias_rps[j], 1e-12);
+}
+
+TEST(SensorModel, LeverArmAddsCentripetalAndTangentialTerms) {
+  SensorModelParams p = noiseless();
+  p.imu_mount_rpy_rad = {{0.0, 0.0, 0.0}};
+  p.accel_bias_mps2 = {{0.0, 0.0, 0.0}};
+  p.imu_position_m = {{0.5, 0.2, 0.0}};
+  SensorModel at_p(p, 9.81);
+  p.imu_position_m = {{0.0, 0.0, 0.0}};
+  SensorModel at_cog(p, 9.81);
+  const VehicleModel vehicle{VehicleParams()};
+  VehicleState state;
+  const VehicleMotion turn{20.0, 0.0, 1.0 / 200.0};  // r = 0.1 rad/s
+  vehicle.evaluate(turn, &state);
+  const ImuReading a = at_p.imu(turn, state, 0.3), b = at_cog.imu(turn, state, 0.3);
+  EXPECT_NEAR(a.specific_force_mps2[0] - b.specific_force_mps2[0], -0.3 * 0.2 - 0.01 * 0.5, 1e-12);
+  EXPECT_NEAR(a.specific_force_mps2[1] - b.specific_force_mps2[1], 0.3 * 0.5 - 0.01 * 0.2, 1e-12);
+  EXPECT_NEAR(a.specific_force_mps2[2] - b.specific_force_mps2[2], 0.0, 1e-12);
 }
 
 TEST(SensorModel, WheelSpeedsAreQuantisedOnTheTrueRadius) {
@@ -107,7 +125,7 @@ TEST(SensorModel, NoiseHasItsDensityAndIsReproducible) {
   double sum_sq = 0.0;
   const int n = 20000;
   for (int k = 0; k < n; ++k) {
-    const ImuReading ra = a.imu(rest, state), rb = b.imu(rest, state);
+    const ImuReading ra = a.imu(rest, state, 0.0), rb = b.imu(rest, state, 0.0);
     EXPECT_EQ(ra.specific_force_mps2[0], rb.specific_force_mps2[0]);
     sum_sq += std::pow(ra.specific_force_mps2[0] - mean, 2);
   }

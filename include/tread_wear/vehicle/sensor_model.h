@@ -10,7 +10,8 @@
 ///            (b sideslip, a_y = v^2 kappa), angular rate w_b = (0, 0, v kappa); in IMU axes through the mount
 ///            rotation R_m = Rz(yaw) Ry(pitch) Rx(roll) (IMU -> body): f_imu = R_m^T f_b + b_a + n_a,
 ///            w_imu = R_m^T w_b + b_g + n_g; white noise per sample sigma = density sqrt(rate) (n ~ N(0, sigma^2)).
-///            The IMU sits at the CoG (no lever arm).
+///            At the IMU position p (from the CoG, body axes) the rigid body adds r_dot x p + r x (r x p) to f_b
+///            (r = (0, 0, v kappa), r_dot its time derivative, given by the caller).
 ///   wheels   omega_i = V_i cos(alpha_i) (1 + kappa_i) / R_true,i + jitter, quantised to the signal resolution
 ///            (round to a multiple of the quantum), >= 0; R_true,i = R_nominal (1 + radius_error_i): the nominal
 ///            radius is what the car's documentation (and the front end) assumes.
@@ -33,6 +34,8 @@ struct SensorModelParams {
   // IMU
   std::array<double, 3> imu_mount_rpy_rad{{0.017453292519943295, 0.03490658503988659, 0.05235987755982989}};
   ///< mount rotation IMU -> body: roll 1 deg, pitch 2 deg, yaw 3 deg [rad]
+  std::array<double, 3> imu_position_m{{0.3, 0.1, -0.2}};
+  ///< IMU origin from the CoG in body axes (centre console: ahead, left of and below the CoG) [m]
   double imu_rate_hz = 100.0;                                    ///< [Hz], > 0
   std::array<double, 3> accel_bias_mps2{{0.03, -0.02, 0.05}};    ///< accelerometer bias, IMU axes [m/s^2]
   std::array<double, 3> gyro_bias_rps{{0.002, -0.001, 0.003}};   ///< gyro bias, IMU axes [rad/s]
@@ -70,8 +73,8 @@ class SensorModel {
   /// @throw std::invalid_argument naming the field for invalid params
   SensorModel(const SensorModelParams& params, double gravity_mps2);
 
-  /// IMU sample for the vehicle's motion and its evaluated state.
-  ImuReading imu(const VehicleMotion& motion, const VehicleState& state);
+  /// IMU sample for the vehicle's motion, its evaluated state and its yaw acceleration [rad/s^2].
+  ImuReading imu(const VehicleMotion& motion, const VehicleState& state, double yaw_accel_rps2);
   /// Wheel angular speeds [rad/s], FL, FR, RL, RR.
   std::array<double, kWheelCount> wheelSpeeds(const VehicleState& state);
   /// Steering-wheel angle [rad], > 0 left.

@@ -38,6 +38,9 @@ void writeSensorTopics(rosbag::Bag* bag, const SpeedProfile& profile, const Rout
   mount.header.stamp = ros::Time(kDriveTimeOffset_s);
   mount.header.frame_id = kBaseFrame;
   mount.child_frame_id = kImuFrame;
+  mount.transform.translation.x = params.imu_position_m[0];
+  mount.transform.translation.y = params.imu_position_m[1];
+  mount.transform.translation.z = params.imu_position_m[2];
   const std::array<double, 4> q = SensorModel::quaternion(params.imu_mount_rpy_rad);
   mount.transform.rotation.x = q[0];
   mount.transform.rotation.y = q[1];
@@ -59,7 +62,13 @@ void writeSensorTopics(rosbag::Bag* bag, const SpeedProfile& profile, const Rout
     const double t = t0 + static_cast<double>(k) / params.imu_rate_hz;
     const VehicleMotion motion = motionAt(t);
     vehicle.evaluate(motion, &state);
-    const ImuReading r = sensors.imu(motion, state);
+    // Yaw acceleration d(v kappa)/dt by a central difference over +-1 ms (the truth's curvature is piecewise
+    // linear in distance).
+    constexpr double kH = 1e-3;
+    const VehicleMotion before = motionAt(t - kH), after = motionAt(t + kH);
+    const double yaw_accel = (after.speed_mps * after.path_curvature_per_m -
+                              before.speed_mps * before.path_curvature_per_m) / (2.0 * kH);
+    const ImuReading r = sensors.imu(motion, state, yaw_accel);
     imu.header.stamp = ros::Time(t - t0 + kDriveTimeOffset_s);
     imu.linear_acceleration.x = r.specific_force_mps2[0];
     imu.linear_acceleration.y = r.specific_force_mps2[1];

@@ -120,6 +120,7 @@ VehicleInputsResult runVehicleInputs(const std::string& in_path, const std::stri
     }
     if (!have_mount) throw BagError(in_path + ": no base_link -> imu_link transform on " + tf_topic);
     result.imu_mount_rpy_rad = params.imu_mount_rpy_rad;
+    result.imu_position_m = params.imu_position_m;
 
     // The odometry latency: median of record time - header stamp.
     std::vector<double> lags;

@@ -56,11 +56,12 @@ int runVehicleInputsCli(int argc, const char* const argv[], const std::string& s
     options.estimator.vehicle = loadVehicleParams(vehicle_path);
     for (int w = 0; w < kWheelCount; ++w) options.wheel_names.push_back(wheelName(w));
     const VehicleInputsResult r = runVehicleInputs(in_path, out_path, options);
-    out << formatted("%s: imu %zu, joint_states %zu, odom %zu messages; IMU mount roll %.3f pitch %.3f yaw %.3f deg, "
-                     "odom latency %.3f s\n",
+    out << formatted("%s: imu %zu, joint_states %zu, odom %zu messages; IMU mount roll %.3f pitch %.3f yaw %.3f deg "
+                     "at (%.3f, %.3f, %.3f) m, odom latency %.3f s\n",
                      in_path.c_str(), r.imu_messages, r.joint_state_messages, r.odometry_messages,
                      r.imu_mount_rpy_rad[0] * 57.29577951308232, r.imu_mount_rpy_rad[1] * 57.29577951308232,
-                     r.imu_mount_rpy_rad[2] * 57.29577951308232, r.odometry_lag_s);
+                     r.imu_mount_rpy_rad[2] * 57.29577951308232, r.imu_position_m[0], r.imu_position_m[1],
+                     r.imu_position_m[2], r.odometry_lag_s);
     out << formatted("%s: %zu cycles at %g Hz (%zu without a speed source), %llu rejected samples\n",
                      out_path.c_str(), r.cycles, options.rate_hz, r.invalid_cycles,
                      static_cast<unsigned long long>(r.rejected_samples));

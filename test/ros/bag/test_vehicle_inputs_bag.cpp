@@ -137,6 +137,7 @@ TEST_F(VehicleInputsBag, KnownTruthMeetsTheTargets) {
   EXPECT_NEAR(r.imu_mount_rpy_rad[0], 1.0 * M_PI / 180.0, 1e-9);
   EXPECT_NEAR(r.imu_mount_rpy_rad[1], 2.0 * M_PI / 180.0, 1e-9);
   EXPECT_NEAR(r.imu_mount_rpy_rad[2], 3.0 * M_PI / 180.0, 1e-9);
+  for (int j = 0; j < 3; ++j) EXPECT_DOUBLE_EQ(r.imu_position_m[j], SensorModelParams().imu_position_m[j]);
   EXPECT_NEAR(r.odometry_lag_s, 0.1, 1e-6);
   EXPECT_EQ(r.invalid_cycles, 0u);
   for (int w = 0; w < kWheelCount; ++w) {

@@ -40,6 +40,7 @@ struct VehicleInputsResult {
   std::size_t cycles = 0;                       ///< estimate() calls [-]
   std::size_t invalid_cycles = 0;               ///< of which without a speed source (nothing written)
   std::array<double, 3> imu_mount_rpy_rad{};    ///< from /tf_static [rad]
+  std::array<double, 3> imu_position_m{};       ///< from /tf_static (base_link = CoG) [m]
   double odometry_lag_s = 0.0;                  ///< median record time - header stamp of odom [s]
   std::array<RollingRadiusState, kWheelCount> radii{};  ///< learned at the end
   std::array<bool, kWheelCount> radius_converged{};
