@@ -20,5 +20,6 @@ target_link_libraries(test_vehicle_inputs ${PROJECT_NAME}_io ${catkin_LIBRARIES}
 add_dependencies(test_vehicle_inputs ${PROJECT_NAME}_generate_messages_cpp vehicle_inputs_node)
 set_target_properties(test_vehicle_inputs PROPERTIES EXCLUDE_FROM_ALL OFF)
 add_rostest(test/ros/vehicle_inputs_no_tf.test DEPENDENCIES test_vehicle_inputs)
+add_rostest(test/ros/vehicle_inputs_time_jump.test DEPENDENCIES test_vehicle_inputs)
 tread_wear_add_gtest(test_vehicle_inputs_parts ${PROJECT_SOURCE_DIR}/test/ros/test_vehicle_inputs_parts.cpp
                      ${PROJECT_NAME}_ros)

@@ -94,6 +94,11 @@ bool VehicleInputsConfig::validate(std::string* error) const {
   if (!uniqueNonEmpty(wheel_names, "wheel_names", error)) return false;
   if (!uniqueNonEmpty(wheel_joints, "wheel_joints", error)) return false;
   if (!uniqueNonEmpty(wheel_frames, "wheel_frames", error)) return false;
+  for (double sign : wheel_velocity_signs)
+    if (sign != 1.0 && sign != -1.0) {
+      *error = "wheel_velocity_signs: " + number(sign) + ": each must be 1 or -1";
+      return false;
+    }
   if (steering_joint.empty()) {
     *error = "steering_joint: must not be empty";
     return false;
@@ -132,7 +137,8 @@ std::string VehicleInputsConfig::describe() const {
   s << "publish_rate_hz: " << publish_rate_hz << "\nspeed_source: " << speed_source << "\nbase_frame: " << base_frame
     << "\ncog_position_m: [" << cog_position_m[0] << ", " << cog_position_m[1] << ", " << cog_position_m[2] << "]";
   for (int i = 0; i < kWheelCount; ++i)
-    s << "\nwheel " << wheel_names[i] << ": joint " << wheel_joints[i] << ", frame " << wheel_frames[i];
+    s << "\nwheel " << wheel_names[i] << ": joint " << wheel_joints[i] << " (sign " << wheel_velocity_signs[i]
+      << "), frame " << wheel_frames[i];
   s << "\nsteering_joint: " << steering_joint << "\ntf_timeout_s: " << tf_timeout_s
     << "\nvehicle_params_file: " << vehicle_params_file << " (" << estimator.vehicle.name << ")"
     << "\nradius_file: " << (radius_file.empty() ? "(none)" : radius_file) << "\nsave_interval_s: " << save_interval_s
@@ -169,6 +175,7 @@ bool loadVehicleInputsConfig(const ros::NodeHandle& pnh, VehicleInputsConfig* co
       read(pnh, "base_frame", &c.base_frame, error) && read(pnh, "cog_position_m", &c.cog_position_m, error) &&
       read(pnh, "wheel_names", &c.wheel_names, error) && read(pnh, "wheel_joints", &c.wheel_joints, error) &&
       read(pnh, "wheel_frames", &c.wheel_frames, error) &&
+      read(pnh, "wheel_velocity_signs", &c.wheel_velocity_signs, error) &&
       read(pnh, "steering_joint", &c.steering_joint, error) && read(pnh, "tf_timeout_s", &c.tf_timeout_s, error) &&
       read(pnh, "radius_file", &c.radius_file, error) && read(pnh, "save_interval_s", &c.save_interval_s, error) &&
       read(pnh, "diagnostic_period_s", &c.diagnostic_period_s, error) &&

@@ -370,7 +370,7 @@ void VehicleInputsNode::jointCallback(const sensor_msgs::JointState::ConstPtr& m
     }
     for (int i = 0; i < kWheelCount; ++i)
       if (n == config_.wheel_joints[i] && k < msg->velocity.size()) {
-        omega[i] = msg->velocity[k];
+        omega[i] = config_.wheel_velocity_signs[static_cast<std::size_t>(i)] * msg->velocity[k];
         ++found;
       }
   }

@@ -6,6 +6,7 @@
 #include <geometry_msgs/TransformStamped.h>
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
+#include <rosgraph_msgs/Clock.h>
 #include <ros/ros.h>
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/JointState.h>
@@ -122,8 +123,8 @@ class Harness {
     }
   }
 
-  void publishSample(const Drive& d, int k) {
-    const ros::Time now = ros::Time::now();
+  void publishSample(const Drive& d, int k) { publishSample(d, k, ros::Time::now()); }
+  void publishSample(const Drive& d, int k, const ros::Time& now) {
     const double v = d.speed_mps, r = d.yaw_rate_rps, ay = v * r;
     if (d.imu) {
       sensor_msgs::Imu imu;
@@ -279,6 +280,36 @@ TEST(VehicleInputs, ImuStopsDegradesToTheFallbackWithADiagnostic) {
   ASSERT_TRUE(harness->diagnostic("vehicle_inputs_node: publish cycle", &s));
   EXPECT_GT(std::stoi(Harness::value(s, "cycles")), 100);
   EXPECT_FALSE(Harness::value(s, "max cycle CPU [us]").empty());
+}
+
+TEST(VehicleInputsTimeJump, AfterTheClockJumpsBackTheEstimatorRestartsAndPublishesAgain) {
+  // Simulated time driven by the test (use_sim_time): 1.5 s from t = 100 s, then back to t = 10 s for 1.5 s.
+  ros::NodeHandle nh;
+  ros::Publisher clock = nh.advertise<rosgraph_msgs::Clock>("/clock", 10);
+  const ros::WallTime wait_end = ros::WallTime::now() + ros::WallDuration(5.0);
+  while (clock.getNumSubscribers() == 0 && ros::WallTime::now() < wait_end) ros::WallDuration(0.02).sleep();
+  auto run = [&](double t0, int steps) {
+    for (int k = 0; k < steps && ros::ok(); ++k) {
+      rosgraph_msgs::Clock c;
+      c.clock = ros::Time(t0 + 0.01 * k);
+      clock.publish(c);
+      harness->publishSample(Drive{}, k, c.clock);
+      ros::WallDuration(0.01).sleep();
+    }
+  };
+  harness->clearDiagnostics();
+  run(100.0, 150);
+  harness->clear();
+  run(10.0, 150);
+  diagnostic_msgs::DiagnosticStatus s;
+  ASSERT_TRUE(harness->diagnostic("vehicle_inputs_node: publish cycle", &s));
+  EXPECT_GE(std::stoi(Harness::value(s, "clock faults")), 1);
+  EXPECT_GE(std::stoi(Harness::value(s, "estimator restarts")), 1);
+  for (int i = 0; i < kWheels; ++i) {
+    const WheelSeen w = harness->seen(i);
+    ASSERT_GT(w.loads, 50) << kNames[i];  // publishing again after the jump, at the right loads
+    EXPECT_NEAR(w.load_sum / w.loads, staticLoad(i), 0.02 * staticLoad(i)) << kNames[i];
+  }
 }
 
 TEST(VehicleInputsNoTf, MissingImuTransformIsADiagnosticAndTheImuIsNotUsed) {

@@ -60,6 +60,12 @@ TEST(VehicleInputsConfig, EveryBadValueIsNamed) {
   c.steering_joint = c.wheel_joints[1];
   EXPECT_NE(errorOf(c).find("steering_joint = 'wheel_front_right_joint'"), std::string::npos);
   c = validConfig();
+  c.wheel_velocity_signs[1] = 0.5;
+  EXPECT_EQ(errorOf(c), "wheel_velocity_signs: 0.5: each must be 1 or -1");
+  c = validConfig();
+  c.marker_rate_hz = 200.0;
+  EXPECT_NE(errorOf(c).find("marker_rate_hz = 200"), std::string::npos);
+  c = validConfig();
   c.tf_timeout_s = 2.0;
   EXPECT_NE(errorOf(c).find("tf_timeout_s = 2"), std::string::npos);
   c = validConfig();

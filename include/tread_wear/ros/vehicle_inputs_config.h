@@ -23,6 +23,8 @@ struct VehicleInputsConfig {
   std::array<std::string, kWheelCount> wheel_names{{"front_left", "front_right", "rear_left", "rear_right"}};
   std::array<std::string, kWheelCount> wheel_joints{
       {"wheel_front_left_joint", "wheel_front_right_joint", "wheel_rear_left_joint", "wheel_rear_right_joint"}};
+  std::array<double, kWheelCount> wheel_velocity_signs{{1.0, 1.0, 1.0, 1.0}};  ///< joint velocity x sign = forward
+                                           ///< wheel speed [-], each +1 or -1 (a mirrored joint axis: -1)
   std::array<std::string, kWheelCount> wheel_frames{
       {"wheel_front_left", "wheel_front_right", "wheel_rear_left", "wheel_rear_right"}};  ///< for the rviz labels
   std::string steering_joint = "steering_wheel_joint";  ///< steering-wheel joint, position [rad], > 0 left
