@@ -20,7 +20,7 @@ trap cleanup EXIT
 PIDS=""
 roscore -p "$PORT" > "$WORK/roscore.log" 2>&1 & PIDS="$PIDS $!"
 for _ in $(seq 50); do rostopic list > /dev/null 2>&1 && break; sleep 0.2; done
-roslaunch tread_wear vehicle.launch speed_source:=twist radius_file:= state_file:= > "$WORK/launch.log" 2>&1 &
+roslaunch tread_wear vehicle.launch speed_source:=twist radius_file:="$WORK/radii.json" state_file:="$WORK/state.json" > "$WORK/launch.log" 2>&1 &
 PIDS="$PIDS $!"
 "$REPO/test/ros/publish_vehicle_sensors.py" --speed 15 --radius 40 > "$WORK/sensors.log" 2>&1 & PIDS="$PIDS $!"
 xvfb-run -a -s "-screen 0 1200x800x24" bash -c "
