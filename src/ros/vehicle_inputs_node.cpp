@@ -171,6 +171,56 @@ void fillInputQuality(const VehicleInputEstimate& e, int wheel, bool published, 
   msg->rolling_radius_m = w.rolling_radius_m;
 }
 
+void publishWheelInputs(const VehicleInputEstimate& estimate, const ros::Time& now,
+                        std::array<VehicleInputPublishers, kWheelCount>* publishers, CycleStats* stats) {
+  if (!estimate.valid) ++stats->invalid_cycles;
+  for (int i = 0; i < kWheelCount; ++i) {
+    const bool publish = wheelPublishable(estimate, i);
+    const WheelInputEstimate& w = estimate.wheels[static_cast<std::size_t>(i)];
+    VehicleInputPublishers& p = (*publishers)[static_cast<std::size_t>(i)];
+    bool published = false;
+    if (publish) {
+      published = true;
+      if (p.load->trylock()) {
+        p.load->msg().header.stamp = now;
+        p.load->msg().load_n = w.load_n;
+        p.load->unlockAndPublish();
+      } else {
+        ++stats->skipped_publications;
+        published = false;
+      }
+      if (p.slip->trylock()) {
+        p.slip->msg().header.stamp = now;
+        p.slip->msg().slip_angle_rad = w.slip_angle_rad;
+        p.slip->msg().slip_ratio = w.slip_ratio;
+        p.slip->msg().path_curvature_per_m = w.path_curvature_per_m;
+        p.slip->unlockAndPublish();
+      } else {
+        ++stats->skipped_publications;
+        published = false;
+      }
+      if (p.speed->trylock()) {
+        p.speed->msg().header.stamp = now;
+        p.speed->msg().speed_mps = w.speed_mps;
+        p.speed->unlockAndPublish();
+      } else {
+        ++stats->skipped_publications;
+        published = false;
+      }
+      ++stats->published[static_cast<std::size_t>(i)];
+    } else {
+      ++stats->withheld[static_cast<std::size_t>(i)];
+    }
+    if (p.quality->trylock()) {
+      p.quality->msg().header.stamp = now;
+      fillInputQuality(estimate, i, published, &p.quality->msg());
+      p.quality->unlockAndPublish();
+    } else {
+      ++stats->skipped_publications;
+    }
+  }
+}
+
 VehicleInputsNode::VehicleInputsNode(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), pnh_(pnh) {}
 
 VehicleInputsNode::~VehicleInputsNode() { shutdown(); }
@@ -208,7 +258,7 @@ bool VehicleInputsNode::initialize() {
   tf_listener_ = std::make_unique<tf2_ros::TransformListener>(tf_buffer_, nh_);
   for (int i = 0; i < kWheelCount; ++i) {
     const std::string prefix = "wheels/" + config_.wheel_names[i] + "/";
-    WheelPublishers& p = publishers_[i];
+    VehicleInputPublishers& p = publishers_[i];
     p.load = std::make_unique<RealtimePublisher<tread_wear::WheelLoad>>(
         nh_.advertise<tread_wear::WheelLoad>(prefix + "load", 10));
     p.slip = std::make_unique<RealtimePublisher<tread_wear::WheelSlip>>(
@@ -268,7 +318,7 @@ void VehicleInputsNode::shutdown() {
   diagnostics_timer_.stop();
   save_timer_.stop();
   saveRadii("shutdown");
-  for (WheelPublishers& p : publishers_) {
+  for (VehicleInputPublishers& p : publishers_) {
     if (p.load) p.load->stop();
     if (p.slip) p.slip->stop();
     if (p.speed) p.speed->stop();
@@ -409,52 +459,7 @@ void VehicleInputsNode::cycle(const ros::TimerEvent& event) {
     ++stats_.clock_faults;
     restart_pending_ = true;
   }
-  if (!estimate_.valid) ++stats_.invalid_cycles;
-  for (int i = 0; i < kWheelCount; ++i) {
-    const bool publish = wheelPublishable(estimate_, i);
-    const WheelInputEstimate& w = estimate_.wheels[static_cast<std::size_t>(i)];
-    WheelPublishers& p = publishers_[static_cast<std::size_t>(i)];
-    bool published = false;
-    if (publish) {
-      published = true;
-      if (p.load->trylock()) {
-        p.load->msg().header.stamp = now;
-        p.load->msg().load_n = w.load_n;
-        p.load->unlockAndPublish();
-      } else {
-        ++stats_.skipped_publications;
-        published = false;
-      }
-      if (p.slip->trylock()) {
-        p.slip->msg().header.stamp = now;
-        p.slip->msg().slip_angle_rad = w.slip_angle_rad;
-        p.slip->msg().slip_ratio = w.slip_ratio;
-        p.slip->msg().path_curvature_per_m = w.path_curvature_per_m;
-        p.slip->unlockAndPublish();
-      } else {
-        ++stats_.skipped_publications;
-        published = false;
-      }
-      if (p.speed->trylock()) {
-        p.speed->msg().header.stamp = now;
-        p.speed->msg().speed_mps = w.speed_mps;
-        p.speed->unlockAndPublish();
-      } else {
-        ++stats_.skipped_publications;
-        published = false;
-      }
-      ++stats_.published[static_cast<std::size_t>(i)];
-    } else {
-      ++stats_.withheld[static_cast<std::size_t>(i)];
-    }
-    if (p.quality->trylock()) {
-      p.quality->msg().header.stamp = now;
-      fillInputQuality(estimate_, i, published, &p.quality->msg());
-      p.quality->unlockAndPublish();
-    } else {
-      ++stats_.skipped_publications;
-    }
-  }
+  publishWheelInputs(estimate_, now, &publishers_, &stats_);
   const double cpu_us = threadCpu_us() - cpu0, wall_us = steady_us() - wall0;
   ++stats_.cycles;
   stats_.last_cpu_us = cpu_us;

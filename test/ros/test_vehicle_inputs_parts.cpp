@@ -2,10 +2,15 @@
 // constraint), the rolling-radius file (round trip, missing, bad), and the per-wheel publish rule and quality fill.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
+#include <mutex>
+#include <new>
 #include <string>
+#include <thread>
 
 #include "common/temp_file.h"
 #include "tread_wear/io/rolling_radius_store.h"
@@ -13,6 +18,24 @@
 #include "tread_wear/ros/vehicle_inputs_config.h"
 #include "tread_wear/ros/vehicle_inputs_node.h"
 #include "tread_wear/ros/wear_markers.h"
+
+// Heap allocations of the calling thread only (the realtime publishers' threads allocate by design), as in
+// test_node_parts.cpp. GCC pairs the inlined replacement delete's free() with the standard operator new it assumes;
+// both are malloc here.
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+namespace {
+thread_local long t_allocations = 0;
+}  // namespace
+void* operator new(std::size_t n) {
+  ++t_allocations;
+  if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t n) { return operator new(n); }
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
 namespace tread_wear {
 namespace {
@@ -198,6 +221,62 @@ TEST(WearMarkers, PatchLabelWithTheStepInputsSaysWhyTheWheelWears) {
   ASSERT_EQ(a.markers.size(), 1u);
   EXPECT_EQ(a.markers[0].text,
             "fl (ok)\n1.500 mg, 2.500 km, slide 25%\nFz 4.25 kN, alpha -2.00 deg, kappa 0.0100\nwear 800.00 mg/km");
+}
+
+TEST(VehicleInputsNodeParts, TheCycleAllocatesNothingAndPublishesTheStaticLoads) {
+  VehicleInputsConfig c = validConfig();
+  VehicleInputEstimator estimator(c.estimator);
+  std::mutex mutex;
+  std::array<double, kWheelCount> last_load{};
+  std::atomic<int> loads{0}, qualities{0};
+  std::array<VehicleInputPublishers, kWheelCount> pubs;
+  for (int i = 0; i < kWheelCount; ++i) {
+    pubs[i].load = std::make_unique<RealtimePublisher<tread_wear::WheelLoad>>(
+        RealtimePublisher<tread_wear::WheelLoad>::Sink([&, i](const tread_wear::WheelLoad& m) {
+          std::lock_guard<std::mutex> l(mutex);
+          last_load[i] = m.load_n;
+          ++loads;
+        }));
+    pubs[i].slip = std::make_unique<RealtimePublisher<tread_wear::WheelSlip>>(
+        RealtimePublisher<tread_wear::WheelSlip>::Sink([](const tread_wear::WheelSlip&) {}));
+    pubs[i].speed = std::make_unique<RealtimePublisher<tread_wear::WheelSpeed>>(
+        RealtimePublisher<tread_wear::WheelSpeed>::Sink([](const tread_wear::WheelSpeed&) {}));
+    pubs[i].quality = std::make_unique<RealtimePublisher<tread_wear::WheelInputQuality>>(
+        RealtimePublisher<tread_wear::WheelInputQuality>::Sink([&](const tread_wear::WheelInputQuality&) { ++qualities; }));
+    pubs[i].quality->msg().wheel = "wheel name set once";
+  }
+  CycleStats stats;
+  VehicleInputEstimate estimate;
+  const double v = 15.0, g = c.estimator.vehicle.gravity_mps2;
+  long cycle_allocations = 0;
+  for (int k = 0; k < 200; ++k) {
+    const double t = 0.01 * k;
+    estimator.addImu(t, 0.0, 0.0, g, 0.0, 0.0, 0.0);
+    estimator.addWheelSpeeds(t, {v / 0.31, v / 0.31, v / 0.31, v / 0.31});
+    estimator.addSteering(t, 0.0);
+    estimator.addSpeed(t, v);
+    const long before = t_allocations;
+    estimator.estimate(t, &estimate);
+    publishWheelInputs(estimate, ros::Time(100.0 + t), &pubs, &stats);
+    if (k > 0) cycle_allocations += t_allocations - before;
+    std::this_thread::sleep_for(std::chrono::microseconds(200));  // let the publisher threads take the messages
+  }
+  EXPECT_EQ(cycle_allocations, 0);
+  for (auto& p : pubs) {
+    p.load->stop();
+    p.slip->stop();
+    p.speed->stop();
+    p.quality->stop();
+  }
+  EXPECT_GT(loads.load(), 4 * 150);
+  EXPECT_GT(qualities.load(), 4 * 150);
+  const VehicleParams& vp = c.estimator.vehicle;
+  for (int i = 0; i < kWheelCount; ++i) {
+    const double expected = vp.mass_kg * g * (i < 2 ? vp.cogToRearAxle_m() : vp.cog_to_front_axle_m) /
+                            vp.wheelbase_m / 2.0;
+    EXPECT_NEAR(last_load[i], expected, 0.02 * expected) << i;
+  }
+  EXPECT_EQ(stats.withheld[0] + stats.published[0], 200u);
 }
 
 }  // namespace

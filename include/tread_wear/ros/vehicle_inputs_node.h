@@ -74,6 +74,20 @@ struct CycleStats {
   std::array<std::uint64_t, kWheelCount> published{}, withheld{};  ///< per wheel: published / not publishable
 };
 
+/// One wheel's output publishers (preallocated messages; wheel name and frame ids set once).
+struct VehicleInputPublishers {
+  std::unique_ptr<RealtimePublisher<tread_wear::WheelLoad>> load;
+  std::unique_ptr<RealtimePublisher<tread_wear::WheelSlip>> slip;
+  std::unique_ptr<RealtimePublisher<tread_wear::WheelSpeed>> speed;
+  std::unique_ptr<RealtimePublisher<tread_wear::WheelInputQuality>> quality;
+};
+
+/// The publication step of the cycle: per wheel, load/slip/speed when wheelPublishable() (else none), and always the
+/// quality message, stamped `now`; counts published, withheld and skipped (publisher busy) in *stats. Allocates
+/// nothing, logs nothing, never blocks (try_lock hand-over).
+void publishWheelInputs(const VehicleInputEstimate& estimate, const ros::Time& now,
+                        std::array<VehicleInputPublishers, kWheelCount>* publishers, CycleStats* stats);
+
 class VehicleInputsNode {
  public:
   VehicleInputsNode(ros::NodeHandle nh, ros::NodeHandle pnh);
@@ -85,13 +99,6 @@ class VehicleInputsNode {
   void shutdown();
 
  private:
-  struct WheelPublishers {
-    std::unique_ptr<RealtimePublisher<tread_wear::WheelLoad>> load;
-    std::unique_ptr<RealtimePublisher<tread_wear::WheelSlip>> slip;
-    std::unique_ptr<RealtimePublisher<tread_wear::WheelSpeed>> speed;
-    std::unique_ptr<RealtimePublisher<tread_wear::WheelInputQuality>> quality;
-  };
-
   double toEstimatorTime(const ros::Time& stamp);
   bool imuTransform(const std::string& frame_id);
   void rebuildEstimator();
@@ -116,7 +123,7 @@ class VehicleInputsNode {
   tf2_ros::Buffer tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   ros::Subscriber imu_sub_, joint_sub_, speed_sub_;
-  std::array<WheelPublishers, kWheelCount> publishers_;
+  std::array<VehicleInputPublishers, kWheelCount> publishers_;
   std::unique_ptr<diagnostic_updater::Updater> updater_;
   ros::Timer cycle_timer_, marker_timer_;
   ros::Publisher marker_pub_;
