@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <limits>
 #include <cmath>
 #include <sstream>
 
@@ -407,7 +408,10 @@ void VehicleInputsNode::jointCallback(const sensor_msgs::JointState::ConstPtr& m
   restartIfPending();
   ++joint_received_;
   const double t = toEstimatorTime(msg->header.stamp);
-  std::array<double, kWheelCount> omega{};
+  // A wheel joint absent from the message enters as NaN: the estimator rejects that wheel alone (not_finite), it goes
+  // stale and is not published; the other wheels are used. Never an old value in its place.
+  std::array<double, kWheelCount> omega;
+  omega.fill(std::numeric_limits<double>::quiet_NaN());
   int found = 0;
   bool steering = false;
   double steering_angle = 0.0;
@@ -424,10 +428,8 @@ void VehicleInputsNode::jointCallback(const sensor_msgs::JointState::ConstPtr& m
         ++found;
       }
   }
-  if (found == kWheelCount)
-    estimator_->addWheelSpeeds(t, omega);
-  else
-    ++joint_without_wheels_;
+  if (found < kWheelCount) ++joint_without_wheels_;
+  if (found > 0) estimator_->addWheelSpeeds(t, omega);
   if (steering)
     estimator_->addSteering(t, steering_angle);
   else

@@ -50,6 +50,7 @@ struct Drive {
   bool imu = true;                 // publish the IMU
   bool imu_nan = false;            // NaN in the specific force
   bool joint_out_of_order = false; // every other JointState stamped 50 ms in the past
+  int omit_wheel = -1;             // this wheel's joint left out of the JointState messages
 };
 
 class Harness {
@@ -145,6 +146,7 @@ class Harness {
     const double k_path = v > 0.0 ? r / v : 0.0;
     const double delta = std::atan(kL * k_path);
     for (int i = 0; i < kWheels; ++i) {
+      if (i == d.omit_wheel) continue;
       js.name.push_back(kJoints[i]);
       js.velocity.push_back(std::hypot(v - r * y[i], r * x[i]) / kRadius);
       js.position.push_back(0.0);
@@ -257,6 +259,31 @@ TEST(VehicleInputs, NanImuAndOutOfOrderStampsAreRejectedAndReported) {
     EXPECT_GT(w.loads, 20) << kNames[i];
     EXPECT_NEAR(w.load_sum / w.loads, staticLoad(i), 0.02 * staticLoad(i)) << kNames[i];
   }
+}
+
+TEST(VehicleInputs, AWheelWithoutSpeedIsNotPublishedAndItsQualitySaysWhy) {
+  Drive d;
+  d.omit_wheel = 3;  // rear_right
+  harness->drive(d, 0.8, 0.4);
+  const WheelSeen rr = harness->seen(3);
+  EXPECT_EQ(rr.loads, 0);
+  EXPECT_EQ(rr.slips, 0);
+  EXPECT_EQ(rr.speeds, 0);
+  EXPECT_GT(rr.qualities, 20);
+  EXPECT_FALSE(rr.quality.published);
+  EXPECT_NE(rr.quality.flags & tread_wear::WheelInputQuality::FLAG_WHEEL_SPEED_MISSING, 0u);
+  EXPECT_EQ(rr.quality.slip_ratio_quality, tread_wear::WheelInputQuality::QUALITY_INVALID);
+  for (int i = 0; i < 3; ++i) {
+    const WheelSeen w = harness->seen(i);
+    ASSERT_GT(w.loads, 20) << kNames[i];
+    EXPECT_NEAR(w.load_sum / w.loads, staticLoad(i), 0.02 * staticLoad(i)) << kNames[i];
+  }
+  diagnostic_msgs::DiagnosticStatus s;
+  ASSERT_TRUE(harness->diagnostic("vehicle_inputs_node: wheel rear_right", &s));
+  EXPECT_EQ(s.level, diagnostic_msgs::DiagnosticStatus::ERROR);
+  EXPECT_NE(s.message.find("wheel speed missing"), std::string::npos) << s.message;
+  harness->drive(Drive{}, 0.5, 0.3);  // back
+  EXPECT_GT(harness->seen(3).loads, 10);
 }
 
 TEST(VehicleInputs, ImuStopsDegradesToTheFallbackWithADiagnostic) {
