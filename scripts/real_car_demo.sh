@@ -8,7 +8,7 @@
 #   4. checks + plots (/usr/bin/python3, numpy, matplotlib): loads vs weight, slip ratios by driving phase, slip
 #      angles vs the fused pose, wear per wheel -> OUT_DIR/real_car_checks.json and OUT_DIR/real_car_*.png
 # Usage: scripts/real_car_demo.sh [OUT_DIR]   (default out/real_car; tools from $TREAD_WEAR_BIN, default
-#        _build_sens/devel/lib/tread_wear, falling back to _build/devel/lib/tread_wear; extra converter options in
+#        _build/devel/lib/tread_wear, the README's build; extra converter options in
 #        $REAL_CAR_CONVERT_ARGS, e.g. "--mount-yaw-deg 0.82" for the mount-yaw sensitivity of docs/real_car.md)
 set -euo pipefail
 repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -16,14 +16,9 @@ cd "${repo_root}"
 export PATH="/usr/bin:${PATH}"
 out_dir="${1:-out/real_car}"
 mkdir -p "${out_dir}"
-bin="${TREAD_WEAR_BIN:-}"
-if [[ -z ${bin} ]]; then
-  for b in _build_sens/devel/lib/tread_wear _build/devel/lib/tread_wear; do
-    [[ -x ${b}/tread_wear_vehicle_inputs && -x ${b}/tread_wear_replay ]] && { bin=${b}; break; }
-  done
-fi
+bin="${TREAD_WEAR_BIN:-_build/devel/lib/tread_wear}"
 for tool in tread_wear_vehicle_inputs tread_wear_replay; do
-  [[ -n ${bin} && -x ${bin}/${tool} ]] || { echo "[real_car] ERROR: ${tool} not built (set TREAD_WEAR_BIN)" >&2; exit 1; }
+  [[ -x ${bin}/${tool} ]] || { echo "[real_car] ERROR: ${tool} not built (set TREAD_WEAR_BIN)" >&2; exit 1; }
 done
 
 vehicle=config/vehicle_rav4_2017.yaml

@@ -506,8 +506,13 @@ bool VehicleInputEstimator::estimate(double t_s, VehicleInputEstimate* out) {
                          p.speed_sigma_mps * p.speed_sigma_mps, std::numeric_limits<double>::infinity());
         speed_measured = true;
       }
-      // Rolling radii against the reference speed on free-rolling straights.
-      if (dt > 0.0) {
+      // Rolling radii against the reference speed on free-rolling straights. a_long decides "free rolling" only
+      // once the observer knows the grade offset b_x to better than the learner's acceleration gate: before that
+      // (after a start or reset) an acceleration can hide in b_x, and the wheels' traction slip would be learned
+      // as a smaller radius (seen on the comma2k19 RAV4 on-ramp, docs/real_car.md).
+      const bool offset_settled =
+          observer_.sigma(PlanarVelocityObserver::kBx) <= p.radius_learner.max_long_accel_mps2;
+      if (dt > 0.0 && offset_settled) {
         for (int i = 0; i < kWheelCount; ++i) {
           const auto ui = static_cast<std::size_t>(i);
           if (!wheel_ok[ui] || !steer_ok || !imu_ok) continue;
