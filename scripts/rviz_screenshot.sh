@@ -1,7 +1,7 @@
 #!/bin/bash
 # Headless rviz screenshot of tread_wear_node's contact-patch markers (docs/rviz_patch.png).
 # Starts a private master, the node with config/vehicle_wheels.yaml, synthetic inputs
-# (scripts/publish_wheel_inputs.py) and rviz with config/tread_wear.rviz under Xvfb, then grabs the screen.
+# (scripts/publish_wheel_inputs.py) and rviz with config/tread_wear_patch.rviz under Xvfb, then grabs the screen.
 # Usage: scripts/rviz_screenshot.sh [BUILD_DIR] [OUT.png]      (defaults: _build, docs/rviz_patch.png)
 # Needs: rviz xvfb xauth imagemagick (apt), a built tread_wear_node.
 set -eo pipefail
@@ -20,10 +20,10 @@ trap cleanup EXIT
 PIDS=""
 roscore -p "$PORT" > "$WORK/roscore.log" 2>&1 & PIDS="$PIDS $!"
 for _ in $(seq 50); do rostopic list > /dev/null 2>&1 && break; sleep 0.2; done
-roslaunch tread_wear tread_wear.launch state_file:= > "$WORK/node.log" 2>&1 & PIDS="$PIDS $!"
+roslaunch tread_wear tread_wear.launch state_file:="$WORK/state.json" > "$WORK/node.log" 2>&1 & PIDS="$PIDS $!"
 "$REPO/scripts/publish_wheel_inputs.py" --rate 50 > "$WORK/inputs.log" 2>&1 & PIDS="$PIDS $!"
 xvfb-run -a -s "-screen 0 1200x800x24" bash -c "
-  rviz -d '$REPO/config/tread_wear.rviz' > '$WORK/rviz.log' 2>&1 &
+  rviz -d '$REPO/config/tread_wear_patch.rviz' > '$WORK/rviz.log' 2>&1 &
   RVIZ=\$!
   sleep 12
   import -window root '$WORK/shot.png'
