@@ -267,9 +267,11 @@ class BrushWearModel::Sweep {
  public:
   /// @param patch footprint and pressure of the operating point (Eqs 6-9); it and the grids xg, yg (the
   ///   entry-transient ones or not) outlive the sweep
+  /// @param kinematics, rolling_speed_mps v_r's terms and V_r [m/s] of op (evaluate() has them from one sincos)
   /// @param fields optional local fields, pre-sized (evaluate())
-  Sweep(const BrushWearModel& model, const OperatingPoint& op, const ContactPatch& patch, const XGrid& xg,
-        const YGrid& yg, PatchFields* fields);
+  Sweep(const BrushWearModel& model, const OperatingPoint& op, const ContactPatch& patch,
+        const TipKinematics& kinematics, double rolling_speed_mps, const XGrid& xg, const YGrid& yg,
+        PatchFields* fields);
 
   int steps() const { return n_; }
   /// Node 0 at x = +a, where p = 0 and no friction acts: the elements' entry state (model spec, "Leading edge").
@@ -305,6 +307,7 @@ class BrushWearModel::Sweep {
   const double v_mps_;       ///< V, speed of the wheel centre [m/s]
   const double vr_mps_;      ///< V_r, rolling speed: elements cross the patch at it [m/s]
   const TipKinematics kin_;  ///< v_r's slip terms and yaw rate (Eq 14 generalised)
+  const double a_m_, b_m_;   ///< half length a and half width b of the patch (Eq 6) [m]
   // Pressure p = p_scale g_x g_y (Eqs 7-8) and sat(p) (Eq 11) at the nodes: the grids hold g_x's even part and
   // its power -q; the centre shift's factors (1 - B s) and (1 - B s)^-q and the scales depend on Fz.
   const double bx_;           ///< B of g_x (Eq 7) [-]
@@ -344,15 +347,18 @@ class BrushWearModel::Sweep {
 };
 
 inline BrushWearModel::Sweep::Sweep(const BrushWearModel& model, const OperatingPoint& op, const ContactPatch& patch,
-                                    const XGrid& xg, const YGrid& yg, PatchFields* fields)
+                                    const TipKinematics& kinematics, double rolling_speed_mps, const XGrid& xg,
+                                    const YGrid& yg, PatchFields* fields)
     : model_(model),
       patch_(patch),
       xg_(xg),
       yg_(yg),
       fields_(fields),
       v_mps_(op.speed_mps),
-      vr_mps_(op.rollingSpeed()),
-      kin_(op.tipKinematics(model.options_.orientation)),
+      vr_mps_(rolling_speed_mps),
+      kin_(kinematics),
+      a_m_(patch.halfLength()),
+      b_m_(patch.halfWidth()),
       bx_(patch.shapeX().B()),
       p_scale_pa_(patch.pressureScale()),
       sat_scale_(std::pow(p_scale_pa_ / model.params_.friction.p_ref_pa, -model.params_.friction.q)),
@@ -369,9 +375,9 @@ inline BrushWearModel::Sweep::Sweep(const BrushWearModel& model, const Operating
       refinement_budget_(initial_budget_) {
   initStrips(model.options_.enter_at_road_velocity);
   if (fields_) {
-    for (int i = 0; i <= n_; ++i) fields_->x_m[i] = patch.halfLength() * xg_.s[i];
+    for (int i = 0; i <= n_; ++i) fields_->x_m[i] = a_m_ * xg_.s[i];
     fields_->n_strips = ny_;
-    for (int j = 0; j < ny_; ++j) fields_->y_m[j] = patch.halfWidth() * yg_.eta[j];
+    for (int j = 0; j < ny_; ++j) fields_->y_m[j] = b_m_ * yg_.eta[j];
   }
 }
 
@@ -416,20 +422,19 @@ inline march::Constants BrushWearModel::Sweep::marchConstants(const OperatingPoi
 }
 
 inline void BrushWearModel::Sweep::initStrips(bool enter_at_road_velocity) {
-  const double a = patch_.halfLength(), b = patch_.halfWidth();
   for (int j = 0; j < n_padded_; ++j) {  // the strips from n_active_ on are zero and never read back
     const bool active = j < n_active_;
     const double mirror_factor = (mirror_ && 2 * j + 1 != ny_) ? 2.0 : 1.0;  // a mirrored pair counts twice
     strips_.weight[j] = active ? yg_.wy[j] * mirror_factor : 0.0;
-    strips_.y_mz[j] = active && !mirror_ ? b * yg_.eta[j] : 0.0;
-    strips_.y[j] = active ? b * yg_.eta[j] : 0.0;
+    strips_.y_mz[j] = active && !mirror_ ? b_m_ * yg_.eta[j] : 0.0;
+    strips_.y[j] = active ? b_m_ * yg_.eta[j] : 0.0;
     strips_.gy[j] = active ? yg_.gy[j] : 0.0;
     strips_.sat_y[j] = active ? yg_.sat_y[j] : 0.0;
     // Entry state: relaxed, at rest relative to the wheel, or with the road's velocity u = v_r.
     for (auto field : march::kStateFields) (el_->*field)[j] = 0.0;
     const bool at_road = active && enter_at_road_velocity;
-    el_->ux[j] = at_road ? kin_.v_rx0_mps + kin_.omega_rad_per_s * b * yg_.eta[j] : 0.0;
-    el_->uy[j] = at_road ? kin_.vry(a) : 0.0;
+    el_->ux[j] = at_road ? kin_.v_rx0_mps + kin_.omega_rad_per_s * b_m_ * yg_.eta[j] : 0.0;
+    el_->uy[j] = at_road ? kin_.vry(a_m_) : 0.0;
   }
   for (int j = 0; j < n_active_; ++j) refined_step_[j] = -2;  // none
 }
@@ -438,7 +443,7 @@ inline march::StepTerms BrushWearModel::Sweep::stepTerms(double ds, const march:
   march::StepTerms t;
   t.c = c;
   t.w = w;
-  t.g = c.beta * patch_.halfLength() * ds / vr_mps_;
+  t.g = c.beta * a_m_ * ds / vr_mps_;
   t.m_over_g = constants_.m / t.g;
   t.dx = t.m_over_g + constants_.cx + constants_.kx * t.g;
   t.dy = t.m_over_g + constants_.cy + constants_.ky * t.g;
@@ -473,11 +478,10 @@ inline double BrushWearModel::Sweep::pressureAtNode(int i, double* sat_x) {
 }
 
 inline void BrushWearModel::Sweep::leadingEdge() {
-  const double a = patch_.halfLength(), b = patch_.halfWidth();
-  const double w0 = xg_.wx[0] * a * b;
+  const double w0 = xg_.wx[0] * a_m_ * b_m_;
   march::NodeLanes& o = *prev_nodes_;
   for (int j = 0; j < n_active_; ++j) {  // no friction: the element slips at u - v_r
-    const double vsx = el_->ux[j] - kin_.vrx(b * yg_.eta[j]), vsy = el_->uy[j] - kin_.vry(a);
+    const double vsx = el_->ux[j] - kin_.vrx(b_m_ * yg_.eta[j]), vsy = el_->uy[j] - kin_.vry(a_m_);
     const double vs = std::sqrt(vsx * vsx + vsy * vsy);
     o.p[j] = o.tx[j] = o.ty[j] = o.z[j] = o.mup[j] = o.s_dmup[j] = o.refine_rate[j] = 0.0;
     o.vsx[j] = vsx;
@@ -485,19 +489,18 @@ inline void BrushWearModel::Sweep::leadingEdge() {
     o.s[j] = vs;
     o.wt[j] = constants_.w4;
     o.stuck[j] = vs == 0.0 ? 1.0 : 0.0;
-    total_.add(w0 * strips_.weight[j], integrandsOf(nodeOf(o, j), a, strips_.y_mz[j], constants_.v_m));
+    total_.add(w0 * strips_.weight[j], integrandsOf(nodeOf(o, j), a_m_, strips_.y_mz[j], constants_.v_m));
     if (fields_) storeNode(0, j, nodeOf(o, j), *el_);
   }
 }
 
 inline void BrushWearModel::Sweep::step(int i) {
-  const double a = patch_.halfLength();
   const Step& sp = xg_.steps[i];
   const march::StepTerms coarse = stepTerms(sp.ds, march::Bdf2{sp.a1, sp.a2, sp.beta}, sp.w);
   march::Node node;
-  node.x = a * xg_.s[i + 1];
+  node.x = a_m_ * xg_.s[i + 1];
   node.px = pressureAtNode(i + 1, &node.sat_x);
-  const double wxa = xg_.wx[i + 1] * a * patch_.halfWidth();
+  const double wxa = xg_.wx[i + 1] * a_m_ * b_m_;
   // All strips advance to node i + 1 together; then runs of neighbouring strips that need the same number of
   // substeps redo the step together, in packs again.
   if (n_back_ > 0) setReturningStepTerms(i, coarse);
@@ -507,7 +510,7 @@ inline void BrushWearModel::Sweep::step(int i) {
   // change of node values by substeps (times the node's area weight wxa) and the corrections of trapezoids and
   // edge intervals (in x/a, times a b).
   Integrands node_change, corrections;
-  chooseSubstepLevels(a * sp.ds / vr_mps_);
+  chooseSubstepLevels(a_m_ * sp.ds / vr_mps_);
   int n_refined = 0;
   for (int j0 = 0, j1 = 0; j0 < n_active_; j0 = j1) {
     for (j1 = j0 + 1; j1 < n_active_ && level_[j1] == level_[j0];) ++j1;
@@ -522,7 +525,7 @@ inline void BrushWearModel::Sweep::step(int i) {
   std::swap(el_, next_);
   std::swap(prev_nodes_, nodes_);
   total_.add(wxa, node_change);
-  total_.add(a * patch_.halfWidth(), corrections);
+  total_.add(a_m_ * b_m_, corrections);
 }
 
 /// The step terms of x step i per strip, for the strips coming back from substeps in step i - 1: after substeps
@@ -561,7 +564,7 @@ inline void BrushWearModel::Sweep::redoInSubsteps(int i, int j0, int j1, const m
                                                   Integrands* node_change, Integrands* corrections) {
   const double v_m = constants_.v_m;
   const double ds = xg_.steps[i].ds;
-  const double dss = ds / (1 << level_[j0]), hds = 0.5 * ds, x_i = patch_.halfLength() * xg_.s[i];
+  const double dss = ds / (1 << level_[j0]), hds = 0.5 * ds, x_i = a_m_ * xg_.s[i];
   // A pack that runs past j1 also writes the lanes of the strips after the run: set them aside.
   const int spill_end = std::min(j1 + march::kMaxLanes - 1, n_padded_);
   march::LaneCopy spill[march::kMaxLanes - 1];
@@ -609,7 +612,7 @@ inline void BrushWearModel::Sweep::marchSubsteps(int i, int j0, int j1, double d
       const size_t m = static_cast<size_t>(i) * (fine - 1) + (k * stride - 1);
       sub.px = pressureFrom(xg_.sub_gx_even[m], xg_.sub_sat_gx[m], s_k,
                             model_.shift_saturation_(bx_ * s_k, shift_terms_), &sub.sat_x);
-      sub.x = patch_.halfLength() * s_k;
+      sub.x = a_m_ * s_k;
     }
     const march::StepArgs args{&constants_, &strips_, &inner, k == 1 ? &back_ : nullptr, sub, 0.0, nullptr};
     model_.advance_(args, j0, j1 - j0, k == 1 ? *el_ : *next_, next_, nodes_, &root_counts_);
@@ -666,21 +669,23 @@ inline void BrushWearModel::Sweep::results(WearResult* result) const {
   result->stick_fraction = total.stick / area;
   result->slide_fraction = 1.0 - result->stick_fraction;
   result->exact_stick_fraction = total.exact / area;
-  result->half_length_m = patch_.halfLength();
-  result->half_width_m = patch_.halfWidth();
+  result->half_length_m = a_m_;
+  result->half_width_m = b_m_;
   result->max_root_iterations = root_counts_.max_iterations;
   result->root_iterations = root_counts_.total;
   result->refined_substeps = initial_budget_ - refinement_budget_;
 }
 
 void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, PatchFields* fields) const {
-  // Footprint and pressure (Eqs 6-9).
+  // Footprint and pressure (Eqs 6-9); the road's velocity under the tread (Eq 14) and the rolling speed.
   const ContactPatch patch(params_.footprint, op.load_n);
+  const TipKinematics kinematics = op.tipKinematics(options_.orientation);
+  const double rolling_speed = op.rollingSpeed();
   // The grids: the entry-transient ones where an element crosses the patch within its natural period.
   const bool entry =
-      entryTransient(patch.halfLength(), params_.tread.longitudinalStiffness(op.load_n), op.rollingSpeed());
+      entryTransient(patch.halfLength(), params_.tread.longitudinalStiffness(op.load_n), rolling_speed);
   const YGrid& yg = entry && !entry_y_grid_.eta.empty() ? entry_y_grid_ : y_grid_;
-  Sweep sweep(*this, op, patch, entry ? entry_x_grid_ : x_grid_, yg, fields);
+  Sweep sweep(*this, op, patch, kinematics, rolling_speed, entry ? entry_x_grid_ : x_grid_, yg, fields);
   // Element march (Eqs 12-18) from the leading to the trailing edge, adding the integrands of Eq 20.
   sweep.leadingEdge();
   for (int i = 0; i < sweep.steps(); ++i) sweep.step(i);
