@@ -334,12 +334,12 @@ class BrushWearModel::Sweep {
   march::NodeLanes node_buffers_[2];
   march::NodeLanes* prev_nodes_ = &node_buffers_[0];
   march::NodeLanes* nodes_ = &node_buffers_[1];
-  int refined_step_[GridSpec::kMaxStrips];  ///< per strip the last step redone in substeps (-2: none)
+  int refined_step_[GridSpec::kMaxStrips];   ///< per strip the last step redone in substeps (-2: none)
   double substep_ds_[GridSpec::kMaxStrips];  ///< per strip the substep length of that step [x/a]
-  int level_[GridSpec::kMaxStrips];         ///< per strip 2^level substeps in the current step, 0 where it stands
-  int n_back_ = 0;                          ///< strips redone in substeps in the previous step
-  march::StepTermLanes back_;  ///< per x step: step terms of strips coming back from substeps
-  march::PatchSums sums_{};    ///< the packs' sums of the coarse node solutions
+  int level_[GridSpec::kMaxStrips];          ///< per strip 2^level substeps in the current step, 0 where it stands
+  int n_back_ = 0;                           ///< strips redone in substeps in the previous step
+  march::StepTermLanes back_;                ///< per x step: step terms of strips coming back from substeps
+  march::PatchSums sums_{};                  ///< the packs' sums of the coarse node solutions
   march::RootCounts root_counts_;
   Integrands total_;  ///< everything else of Eq 20 and the stick areas: N, N m, kg/s, m^2
   double chunk_px_[kNodeChunk], chunk_sat_[kNodeChunk];  ///< pressureAtNode's p/g_y [Pa] and sat_x [-]
@@ -682,8 +682,7 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
   const TipKinematics kinematics = op.tipKinematics(options_.orientation);
   const double rolling_speed = op.rollingSpeed();
   // The grids: the entry-transient ones where an element crosses the patch within its natural period.
-  const bool entry =
-      entryTransient(patch.halfLength(), params_.tread.longitudinalStiffness(op.load_n), rolling_speed);
+  const bool entry = entryTransient(patch.halfLength(), params_.tread.longitudinalStiffness(op.load_n), rolling_speed);
   const YGrid& yg = entry && !entry_y_grid_.eta.empty() ? entry_y_grid_ : y_grid_;
   Sweep sweep(*this, op, patch, kinematics, rolling_speed, entry ? entry_x_grid_ : x_grid_, yg, fields);
   // Element march (Eqs 12-18) from the leading to the trailing edge, adding the integrands of Eq 20.
