@@ -13,36 +13,21 @@
 #include <gtest/gtest.h>
 
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
 #include <limits>
-#include <new>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "common/allocation_counter.h"
 #include "tread_wear/estimation/vehicle_input_estimator.h"
 #include "tread_wear/io/speed_profile_csv.h"
 #include "tread_wear/io/vehicle_params_io.h"
 #include "tread_wear/vehicle/route.h"
 
-namespace {
-std::atomic<long> g_allocations{0};
-}  // namespace
-
-void* operator new(std::size_t n) {
-  ++g_allocations;
-  if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n) { return operator new(n); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
 namespace tread_wear {
 namespace {
@@ -575,7 +560,7 @@ TEST(VehicleInputEstimatorParams, ValidateNamesFieldValueAndConstraint) {
 TEST(VehicleInputEstimatorRealTime, PerCycleCallsAllocateNothing) {
   VehicleInputEstimator est(estimatorParams(carParams(), SensorSpec()));
   VehicleInputEstimate out;
-  const long before = g_allocations.load();
+  const long before = t_allocations;
   for (int k = 0; k < 2000; ++k) {
     const double t = k * kDt, v = std::min(20.0, 1.5 * t);
     const double omega = v / 0.305 + 0.001 * (k % 7);
@@ -587,7 +572,7 @@ TEST(VehicleInputEstimatorRealTime, PerCycleCallsAllocateNothing) {
     if (k == 1001) est.addWheelSpeeds(t - 1.0, {{1.0, 1.0, 1.0, 1.0}});
     est.estimate(t, &out);
   }
-  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(t_allocations - before, 0);
   EXPECT_TRUE(out.valid);
 }
 

@@ -3,27 +3,11 @@
 // with turn slip and straight, and through the WearModel facade (budget, low speed).
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
 
+#include "common/allocation_counter.h"
 #include "tread_wear/model/units.h"
 #include "tread_wear/model/wear_model.h"
 
-namespace {
-std::atomic<long> g_allocations{0};
-}  // namespace
-
-void* operator new(std::size_t n) {
-  ++g_allocations;
-  if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n) { return operator new(n); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
 namespace tread_wear {
 namespace {
@@ -60,10 +44,10 @@ TEST(NoAllocation, BrushWearModelEvaluateAllocatesNothing) {
     for (const OperatingPoint& op : points()) {
       if (op.speed_mps <= 0.0) continue;  // BrushWearModel needs V > 0 (WearModel handles standstill)
       WearResult r;
-      const long before = g_allocations.load();
+      const long before = t_allocations;
       model.evaluate(op, &r);
       model.evaluate(op, &r, &fields);
-      EXPECT_EQ(g_allocations.load() - before, 0) << presetName(preset);
+      EXPECT_EQ(t_allocations - before, 0) << presetName(preset);
       EXPECT_TRUE(std::isfinite(r.fy_n));
     }
   }
@@ -76,9 +60,9 @@ TEST(NoAllocation, WearModelEvaluateAllocatesNothingUnderBudget) {
   const WearModel model(TireParams(), options);
   WearResult r;
   const auto pts = points();
-  const long before = g_allocations.load();
+  const long before = t_allocations;
   for (int k = 0; k < 12; ++k) model.evaluate(pts[k % pts.size()], &r);
-  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(t_allocations - before, 0);
   EXPECT_GT(model.degradedCount(), 0);  // the budget path really ran
 }
 

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "common/temp_file.h"
+#include "common/allocation_counter.h"
 #include "tread_wear/io/params_io.h"
 #include "tread_wear/io/wheel_config.h"
 #include "tread_wear/model/units.h"
@@ -37,23 +38,6 @@
 #include "tread_wear/ros/wear_markers.h"
 #include "tread_wear/ros/wheel_pipeline.h"
 
-// Heap allocations of the calling thread only: the realtime publisher's own thread allocates by design.
-// GCC pairs the inlined replacement delete's free() with the standard operator new it assumes; both are malloc here.
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-namespace {
-thread_local long t_allocations = 0;
-}  // namespace
-
-void* operator new(std::size_t n) {
-  ++t_allocations;
-  if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n) { return operator new(n); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
 namespace tread_wear {
 namespace {

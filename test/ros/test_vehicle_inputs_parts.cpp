@@ -13,29 +13,13 @@
 #include <thread>
 
 #include "common/temp_file.h"
+#include "common/allocation_counter.h"
 #include "tread_wear/io/rolling_radius_store.h"
 #include "tread_wear/io/vehicle_params_io.h"
 #include "tread_wear/ros/vehicle_inputs_config.h"
 #include "tread_wear/ros/vehicle_inputs_node.h"
 #include "tread_wear/ros/wear_markers.h"
 
-// Heap allocations of the calling thread only (the realtime publishers' threads allocate by design), as in
-// test_node_parts.cpp. GCC pairs the inlined replacement delete's free() with the standard operator new it assumes;
-// both are malloc here.
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-namespace {
-thread_local long t_allocations = 0;
-}  // namespace
-void* operator new(std::size_t n) {
-  ++t_allocations;
-  if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n) { return operator new(n); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
 namespace tread_wear {
 namespace {
