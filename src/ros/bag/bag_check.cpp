@@ -1,6 +1,7 @@
 #include "tread_wear/ros/bag/bag_check.h"
 
 #include <bzlib.h>
+#include <rosbag/bag.h>
 #include <roslz4/lz4s.h>
 
 #include <algorithm>
@@ -164,6 +165,14 @@ void checkBagRecords(const std::string& path) {
                         data_at + e);
       }
     }
+  }
+}
+
+void openBagForWriting(rosbag::Bag* bag, const std::string& path) {
+  try {
+    bag->open(path, rosbag::bagmode::Write);
+  } catch (const rosbag::BagException& e) {
+    throw BagError(path + ": cannot write the bag: " + e.what());
   }
 }
 

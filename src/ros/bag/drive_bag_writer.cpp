@@ -114,6 +114,11 @@ void writeSensorTopics(rosbag::Bag* bag, const SpeedProfile& profile, const Rout
 
 }  // namespace
 
+WheelInputTopics wheelInputTopics(const std::string& name) {
+  const std::string prefix = "/wheels/" + name + "/";
+  return {prefix + "load", prefix + "slip", prefix + "speed", "wheel_" + name};
+}
+
 DriveStats writeDriveBag(const std::string& path, const SpeedProfile& profile, const Route& route,
                          const VehicleModel& vehicle, const RouteParams& route_params, const DriveOptions& options) {
   if (!(options.rate_hz > 0.0) || options.wheel_names.size() != static_cast<std::size_t>(kWheelCount))
@@ -122,18 +127,9 @@ DriveStats writeDriveBag(const std::string& path, const SpeedProfile& profile, c
   if (options.sensors && !options.sensor_params.validate(&sensor_error))
     throw BagError(path + ": sensor model: " + sensor_error);
   rosbag::Bag bag;
-  try {
-    bag.open(path, rosbag::bagmode::Write);
-  } catch (const rosbag::BagException& e) {
-    throw BagError(path + ": cannot write the bag: " + e.what());
-  }
-  std::vector<std::string> load_topics, slip_topics, speed_topics, frames;
-  for (const std::string& name : options.wheel_names) {
-    load_topics.push_back("/wheels/" + name + "/load");
-    slip_topics.push_back("/wheels/" + name + "/slip");
-    speed_topics.push_back("/wheels/" + name + "/speed");
-    frames.push_back("wheel_" + name);
-  }
+  openBagForWriting(&bag, path);
+  std::vector<WheelInputTopics> topics;
+  for (const std::string& name : options.wheel_names) topics.push_back(wheelInputTopics(name));
   DriveStats stats;
   const std::size_t n = static_cast<std::size_t>(std::floor(profile.duration_s() * options.rate_hz + 1e-9)) + 1;
   WheelLoad load;
@@ -149,15 +145,15 @@ DriveStats writeDriveBag(const std::string& path, const SpeedProfile& profile, c
     for (int i = 0; i < kWheelCount; ++i) {
       const WheelState& w = state.wheels[static_cast<std::size_t>(i)];
       load.header.stamp = slip.header.stamp = speed.header.stamp = stamp;
-      load.header.frame_id = slip.header.frame_id = speed.header.frame_id = frames[i];
+      load.header.frame_id = slip.header.frame_id = speed.header.frame_id = topics[i].frame;
       load.load_n = w.load_n;
       slip.slip_angle_rad = w.slip_angle_rad;
       slip.slip_ratio = w.slip_ratio;
       slip.path_curvature_per_m = w.path_curvature_per_m;
       speed.speed_mps = w.speed_mps;
-      bag.write(load_topics[i], stamp, load);
-      bag.write(slip_topics[i], stamp, slip);
-      bag.write(speed_topics[i], stamp, speed);
+      bag.write(topics[i].load, stamp, load);
+      bag.write(topics[i].slip, stamp, slip);
+      bag.write(topics[i].speed, stamp, speed);
     }
   }
   stats.samples = n;

@@ -138,10 +138,10 @@ VehicleInputsResult runVehicleInputs(const std::string& in_path, const std::stri
     // The truth, if the bag has it (a generated drive).
     std::map<std::string, std::pair<int, int>> truth_topics;  // topic -> wheel, kind (0 load, 1 slip, 2 speed)
     for (int w = 0; w < kWheelCount; ++w) {
-      const std::string base = "/wheels/" + options.wheel_names[static_cast<std::size_t>(w)] + "/";
-      const std::string load = findTopic<WheelLoad>(in_path, connections, base + "load", false);
-      const std::string slip = findTopic<WheelSlip>(in_path, connections, base + "slip", false);
-      const std::string speed = findTopic<WheelSpeed>(in_path, connections, base + "speed", false);
+      const WheelInputTopics truth = wheelInputTopics(options.wheel_names[static_cast<std::size_t>(w)]);
+      const std::string load = findTopic<WheelLoad>(in_path, connections, truth.load, false);
+      const std::string slip = findTopic<WheelSlip>(in_path, connections, truth.slip, false);
+      const std::string speed = findTopic<WheelSpeed>(in_path, connections, truth.speed, false);
       if (load.empty() || slip.empty() || speed.empty()) {
         truth_topics.clear();
         break;
@@ -184,18 +184,9 @@ VehicleInputsResult runVehicleInputs(const std::string& in_path, const std::stri
   const VehicleModel vehicle(params.vehicle);
 
   rosbag::Bag out;
-  try {
-    out.open(out_path, rosbag::bagmode::Write);
-  } catch (const rosbag::BagException& e) {
-    throw BagError(out_path + ": cannot write the bag: " + e.what());
-  }
-  std::vector<std::string> load_topics, slip_topics, speed_topics, frames;
-  for (const std::string& name : options.wheel_names) {
-    load_topics.push_back("/wheels/" + name + "/load");
-    slip_topics.push_back("/wheels/" + name + "/slip");
-    speed_topics.push_back("/wheels/" + name + "/speed");
-    frames.push_back("wheel_" + name);
-  }
+  openBagForWriting(&out, out_path);
+  std::vector<WheelInputTopics> topics;
+  for (const std::string& name : options.wheel_names) topics.push_back(wheelInputTopics(name));
   WheelLoad load_msg;
   WheelSlip slip_msg;
   WheelSpeed speed_msg;
@@ -218,20 +209,20 @@ VehicleInputsResult runVehicleInputs(const std::string& in_path, const std::stri
       const auto ui = static_cast<std::size_t>(i);
       const WheelInputEstimate& e = estimate.wheels[ui];
       load_msg.header.stamp = slip_msg.header.stamp = speed_msg.header.stamp = stamp;
-      load_msg.header.frame_id = slip_msg.header.frame_id = speed_msg.header.frame_id = frames[ui];
+      load_msg.header.frame_id = slip_msg.header.frame_id = speed_msg.header.frame_id = topics[ui].frame;
       if (std::isfinite(e.load_n)) {
         load_msg.load_n = e.load_n;
-        out.write(load_topics[ui], stamp, load_msg);
+        out.write(topics[ui].load, stamp, load_msg);
       }
       if (std::isfinite(e.slip_angle_rad) && std::isfinite(e.slip_ratio) && std::isfinite(e.path_curvature_per_m)) {
         slip_msg.slip_angle_rad = e.slip_angle_rad;
         slip_msg.slip_ratio = e.slip_ratio;
         slip_msg.path_curvature_per_m = e.path_curvature_per_m;
-        out.write(slip_topics[ui], stamp, slip_msg);
+        out.write(topics[ui].slip, stamp, slip_msg);
       }
       if (std::isfinite(e.speed_mps)) {
         speed_msg.speed_mps = e.speed_mps;
-        out.write(speed_topics[ui], stamp, speed_msg);
+        out.write(topics[ui].speed, stamp, speed_msg);
       }
       if (!result.truth_present) continue;
       const auto it = truth[ui].find(k);

@@ -12,11 +12,7 @@ namespace tread_wear {
 void writeWearBag(const std::string& path, const DriveReplay& replay, const ReplayConfig& config,
                   std::uint64_t decimation) {
   rosbag::Bag bag;
-  try {
-    bag.open(path, rosbag::bagmode::Write);
-  } catch (const rosbag::BagException& e) {
-    throw BagError(path + ": cannot write the bag: " + e.what());
-  }
+  openBagForWriting(&bag, path);
   const int n_wheels = replay.wheelCount();
   VehicleWear vehicle;
   vehicle.header.frame_id = "base_link";

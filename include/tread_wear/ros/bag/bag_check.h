@@ -6,6 +6,10 @@
 #include <stdexcept>
 #include <string>
 
+namespace rosbag {
+class Bag;
+}  // namespace rosbag
+
 namespace tread_wear {
 
 /// A bag that cannot be replayed: missing or unreadable file, corrupt or truncated data, missing topics,
@@ -23,5 +27,8 @@ class BagError : public std::runtime_error {
 /// bag versions. Reads the file once, a record at a time (memory: one chunk, and its decompressed data).
 /// @throw BagError naming the file, the problem and its byte offset
 void checkBagRecords(const std::string& path);
+
+/// Opens `bag` for writing at `path` (the one place the tools create a bag). @throw BagError naming the file
+void openBagForWriting(rosbag::Bag* bag, const std::string& path);
 
 }  // namespace tread_wear

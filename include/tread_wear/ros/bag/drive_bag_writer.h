@@ -45,6 +45,13 @@ constexpr const char* kJointNames[kWheelCount + 1] = {"wheel_front_left_joint", 
                                                       "wheel_rear_left_joint", "wheel_rear_right_joint",
                                                       "steering_wheel_joint"};
 
+/// The wear node's input topics of one wheel and the frame of their headers (docs/node.md).
+struct WheelInputTopics {
+  std::string load, slip, speed, frame;
+};
+/// The input topics of the wheel called `name`: /wheels/<name>/{load,slip,speed}, frame wheel_<name>.
+WheelInputTopics wheelInputTopics(const std::string& name);
+
 /// Statistics of a written drive.
 struct DriveStats {
   std::size_t samples = 0;        ///< time samples (each with all topics of all wheels) [-]
