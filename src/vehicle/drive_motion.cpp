@@ -25,15 +25,17 @@ SpeedTrace::SpeedTrace(double start_speed_mps, const std::vector<SpeedCell>& cel
     if (!(h > 0.0) || !std::isfinite(h) || !std::isfinite(a))
       throw std::invalid_argument("speed trace: cell " + std::to_string(k) + " needs a finite duration > 0");
     const double v0 = v_.back(), s0 = s_.back();
-    // A braking cell may end a rounding error below zero; more than that is a wrong trace.
-    const double v1 = v0 + a * h;
-    if (v1 < -1e-9 * std::max(1.0, v0))
+    // A cell braking to rest ends within a rounding error of zero, either side; it ends at rest, so that a dwell
+    // after it stands still. Further below zero is a wrong trace.
+    const double rounding = 1e-9 * std::max(1.0, v0);
+    const double v1 = std::fabs(v0 + a * h) < rounding ? 0.0 : v0 + a * h;
+    if (v1 < 0.0)
       throw std::invalid_argument("speed trace: cell " + std::to_string(k) + " ends at " + std::to_string(v1) +
                                   " m/s");
     a_.push_back(a);
     p_.push_back(p_.back() + h * (s0 + h * (v0 / 2.0 + a * h / 6.0)));
     s_.push_back(s0 + h * (v0 + a * h / 2.0));
-    v_.push_back(std::max(v1, 0.0));
+    v_.push_back(v1);
     t_.push_back(t_.back() + h);
   }
   distance_m_ = position(duration_s_);

@@ -75,6 +75,8 @@ class SpeedTrace : public DriveMotion {
   VehicleMotion at(double t_s) const override;
   const Route& route() const override { return route_; }
   double smoothing_s() const { return smoothing_s_; }
+  /// Distance driven at t, the smoothed s_tau(t) (the cells' own without smoothing) [m].
+  double position(double t_s) const;
 
  private:
   /// The cells' raw trace at t: speed, distance and the time integral of the distance, P = integral of s dt.
@@ -82,8 +84,6 @@ class SpeedTrace : public DriveMotion {
     double v, s, p;
   };
   Raw raw(double t_s) const;
-  /// The smoothed distance s_tau(t) (the raw one without smoothing) [m].
-  double position(double t_s) const;
   /// Cell start times, speeds, distances, integrals of distance, and the cells' accelerations.
   std::vector<double> t_, v_, s_, p_, a_;
   double duration_s_, smoothing_s_;

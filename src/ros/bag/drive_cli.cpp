@@ -12,6 +12,7 @@
 #include "tread_wear/io/speed_profile_csv.h"
 #include "tread_wear/io/vehicle_params_io.h"
 #include "tread_wear/ros/bag/drive_bag_writer.h"
+#include "tread_wear/vehicle/driving_style.h"
 #include "tread_wear/vehicle/manoeuvre.h"
 
 namespace tread_wear {
@@ -27,6 +28,10 @@ const char* const kUsage =
     "    circle:         --lateral-accel A [m/s^2] (radius V^2/A, <= 8) [--direction left|right]\n"
     "    accel:          --low-speed-kmh V1 --high-speed-kmh V2 [km/h] --accel-mps2 A --decel-mps2 D [m/s^2, > 0]\n"
     "                    --duration-s T: from V1, accelerate at A to V2, brake at D to V1, repeated\n"
+    "  --style calm|normal|aggressive  drive the profile's route and stops within the style's envelope:\n"
+    "               a_max/d_max/a_y,max 1.0/1.5/2.0, 1.7/2.5/3.0, 3.0/4.0/4.5 m/s^2 (docs/drive.md)\n"
+    "  --max-accel-mps2 A  --max-decel-mps2 D  --max-lateral-accel-mps2 AY  the envelope's values instead of the\n"
+    "               style's (style normal when only these are given) [m/s^2, > 0, <= 8]\n"
     "  --profile    speed profile CSV (time_s, speed_kmh or speed_mps) [default: data/wltc_class3b.csv]\n"
     "  --vehicle    vehicle parameters [default: config/vehicle_passenger_car.yaml]\n"
     "  --mass-kg    vehicle mass instead of the file's [kg]; static loads follow, CoG position kept\n"
@@ -107,6 +112,47 @@ bool readManoeuvre(const CommandLine& args, ManoeuvreParams* params, std::string
   return false;
 }
 
+/// The command-line option of each DrivingEnvelope field.
+const std::pair<const char*, const char*> kEnvelopeOptions[] = {{"max_accel_mps2", "--max-accel-mps2"},
+                                                                {"max_decel_mps2", "--max-decel-mps2"},
+                                                                {"max_lateral_accel_mps2", "--max-lateral-accel-mps2"}};
+
+/// Reads --style and the envelope options; *style is empty when none of them is given (the profile as it
+/// prescribes). False with a message naming the option.
+bool readEnvelope(const CommandLine& args, bool profile_drive, std::string* style, DrivingEnvelope* envelope,
+                  std::string* error) {
+  style->clear();
+  bool any = false;
+  for (const char* option : {"style", "max-accel-mps2", "max-decel-mps2", "max-lateral-accel-mps2"}) {
+    if (!args.has(option)) continue;
+    if (!profile_drive) {
+      *error = std::string("--") + option + " is not an option of --manoeuvre " + args.get("manoeuvre");
+      return false;
+    }
+    any = true;
+  }
+  if (!any) return true;
+  *style = args.get("style", "normal");
+  if (!drivingStyle(*style, envelope)) {
+    *error = "--style must be calm, normal or aggressive, not '" + *style + "'";
+    return false;
+  }
+  if (!args.number("max-accel-mps2", &envelope->max_accel_mps2, error) ||
+      !args.number("max-decel-mps2", &envelope->max_decel_mps2, error) ||
+      !args.number("max-lateral-accel-mps2", &envelope->max_lateral_accel_mps2, error))
+    return false;
+  std::string field_error;
+  if (envelope->validate(&field_error)) return true;
+  for (const auto& [field, option] : kEnvelopeOptions) {
+    if (field_error.rfind(std::string(field) + " =", 0) == 0) {
+      *error = std::string(option) + " out of range: " + field_error;
+      return false;
+    }
+  }
+  *error = field_error;
+  return false;
+}
+
 /// The vehicle file's parameters with the command line's mass and drive layout; false with a message naming the
 /// option. The CoG position (l_f) is kept, so the static loads scale with the mass.
 bool overrideVehicle(const CommandLine& args, VehicleParams* vehicle, std::string* error) {
@@ -139,7 +185,8 @@ int runDriveCli(int argc, const char* const argv[], const std::string& share_dir
   if (!args.parse(argc, argv,
                   {"profile", "vehicle", "out", "rate-hz", "lateral-accel-limit", "seed", "manoeuvre", "speed-kmh",
                    "lateral-accel", "direction", "duration-s", "low-speed-kmh", "high-speed-kmh", "accel-mps2",
-                   "decel-mps2", "mass-kg", "drive-layout"},
+                   "decel-mps2", "mass-kg", "drive-layout", "style", "max-accel-mps2", "max-decel-mps2",
+                   "max-lateral-accel-mps2"},
                   {"sensors"}, &error))
     return usage_error(error);
   if (args.help()) {
@@ -157,6 +204,9 @@ int runDriveCli(int argc, const char* const argv[], const std::string& share_dir
   route_params.seed = static_cast<std::uint32_t>(seed);
   ManoeuvreParams manoeuvre;
   if (!readManoeuvre(args, &manoeuvre, &error)) return usage_error(error);
+  std::string style;
+  DrivingEnvelope envelope;
+  if (!readEnvelope(args, manoeuvre.kind == Manoeuvre::kProfile, &style, &envelope, &error)) return usage_error(error);
   options.sensors = args.has("sensors");
   const std::string profile_path = args.get("profile", share_dir + "/data/wltc_class3b.csv");
   const std::string vehicle_path = args.get("vehicle", share_dir + "/config/vehicle_passenger_car.yaml");
@@ -173,9 +223,25 @@ int runDriveCli(int argc, const char* const argv[], const std::string& share_dir
     if (manoeuvre.kind == Manoeuvre::kProfile) {
       const SpeedProfile profile = loadSpeedProfile(profile_path);
       const Route route = buildRoute(profile, route_params);
-      stats = writeDriveBag(bag_path, profile, route, vehicle, route_params, options);
       name = profile.name();
       curve_events = route.events().size();
+      if (style.empty()) {
+        stats = writeDriveBag(bag_path, profile, route, vehicle, route_params, options);
+      } else {
+        const EnvelopeDriveParams drive_params;
+        const EnvelopeDrive drive = driveWithinEnvelope(profile, route, envelope, drive_params);
+        const DriveScenarioInfo scenario{"profile",
+                                         style,
+                                         {{"max_accel_mps2", envelope.max_accel_mps2},
+                                          {"max_decel_mps2", envelope.max_decel_mps2},
+                                          {"max_lateral_accel_mps2", envelope.max_lateral_accel_mps2},
+                                          {"target_window_m", drive_params.target_window_m},
+                                          {"smoothing_s", drive_params.smoothing_s}}};
+        stats = writeDriveBag(bag_path, drive.trace, {name, 0.0, 0.0, drive.phases, scenario}, vehicle, route_params,
+                              options);
+        out << formatted("  style %s: a_max %g, d_max %g, a_y,max %g m/s^2\n", style.c_str(), envelope.max_accel_mps2,
+                         envelope.max_decel_mps2, envelope.max_lateral_accel_mps2);
+      }
     } else {
       const SpeedTrace trace = buildManoeuvre(manoeuvre);
       name = manoeuvreName(manoeuvre.kind);

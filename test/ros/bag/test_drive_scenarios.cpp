@@ -6,6 +6,7 @@
 #include <rosbag/view.h>
 #include <std_msgs/String.h>
 
+#include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -78,6 +79,29 @@ TEST(DriveScenarios, CruiseBagCarriesItsScenarioAndTheOverriddenCar) {
   for (int w = 0; w < kWheelCount; ++w) EXPECT_FLOAT_EQ(firstLoad(bag, w), expected.wheels[w].load_n) << wheelName(w);
 }
 
+// A style's drive of a profile carries the style, its envelope and the measured figures, inside the envelope.
+TEST(DriveScenarios, StyleDriveRecordsItsEnvelopeAndStaysInside) {
+  const std::string csv = tempPath("stop_and_go.csv");
+  {
+    std::ofstream f(csv);
+    f << "# Phases: Go 0-25, Again 25-50\ntime_s,speed_kmh\n0,0\n3,0\n10,30\n20,30\n25,0\n30,0\n35,20\n45,40\n50,0\n"
+         "53,0\n";
+  }
+  const std::string bag = tempPath("style.bag");
+  const CliRun r = runDrive({"--profile", csv, "--style", "aggressive", "--max-accel-mps2", "2.5", "--rate-hz", "20",
+                             "--out", bag});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json scenario = driveInfo(bag).at("scenario");
+  EXPECT_EQ(scenario.at("manoeuvre"), "profile");
+  EXPECT_EQ(scenario.at("style"), "aggressive");
+  EXPECT_EQ(scenario.at("settings").at("max_accel_mps2").get<double>(), 2.5);  // the option over the style
+  EXPECT_EQ(scenario.at("settings").at("max_decel_mps2").get<double>(), 4.0);
+  EXPECT_LE(scenario.at("max_abs_accel_mps2").get<double>(), 4.0 + 1e-9);
+  EXPECT_GT(scenario.at("max_abs_accel_mps2").get<double>(), 2.0);
+  EXPECT_GT(scenario.at("duration_s").get<double>(), 0.0);
+  EXPECT_EQ(driveInfo(bag).at("phases").size(), 2u);
+}
+
 // A bad option is a usage error (exit 2) whose message names the option; no drive is written.
 TEST(DriveScenarios, BadOptionsAreUsageErrorsNamingTheOption) {
   const std::string out = tempPath("never.bag");
@@ -96,6 +120,12 @@ TEST(DriveScenarios, BadOptionsAreUsageErrorsNamingTheOption) {
       {{"--manoeuvre", "accel", "--low-speed-kmh", "80", "--high-speed-kmh", "30", "--accel-mps2", "2",
         "--decel-mps2", "3", "--duration-s", "10"},
        "--high-speed-kmh out of range"},
+      {{"--style", "sporty"}, "--style must be calm, normal or aggressive, not 'sporty'"},
+      {{"--style", "calm", "--max-lateral-accel-mps2", "9"},
+       "--max-lateral-accel-mps2 out of range: max_lateral_accel_mps2 = 9: must be finite, > 0 and <= 8 (0.8 g)"},
+      {{"--max-decel-mps2", "-2"}, "--max-decel-mps2 out of range"},
+      {{"--manoeuvre", "cruise", "--speed-kmh", "50", "--duration-s", "10", "--style", "calm"},
+       "--style is not an option of --manoeuvre cruise"},
       {{"--mass-kg", "-5"}, "--mass-kg out of range: mass_kg = -5: must be finite and > 0"},
       {{"--drive-layout", "middle"}, "--drive-layout must be front, rear or all, not 'middle'"}};
   for (const auto& [options, message] : cases) {
