@@ -239,8 +239,6 @@ int runDriveCli(int argc, const char* const argv[], const std::string& share_dir
                                           {"smoothing_s", drive_params.smoothing_s}}};
         stats = writeDriveBag(bag_path, drive.trace, {name, 0.0, 0.0, drive.phases, scenario}, vehicle, route_params,
                               options);
-        out << formatted("  style %s: a_max %g, d_max %g, a_y,max %g m/s^2\n", style.c_str(), envelope.max_accel_mps2,
-                         envelope.max_decel_mps2, envelope.max_lateral_accel_mps2);
       }
     } else {
       const SpeedTrace trace = buildManoeuvre(manoeuvre);
@@ -269,6 +267,9 @@ int runDriveCli(int argc, const char* const argv[], const std::string& share_dir
         curve_events, stats.max_abs_accel_mps2, stats.max_abs_lateral_accel_mps2);
     out << formatted("  vehicle: %s, %.0f kg, %s-wheel drive\n", vehicle_params.name.c_str(), vehicle_params.mass_kg,
                      driveLayoutName(vehicle_params.drive_layout));
+    if (!style.empty())
+      out << formatted("  style %s: a_max %g, d_max %g, a_y,max %g m/s^2\n", style.c_str(), envelope.max_accel_mps2,
+                       envelope.max_decel_mps2, envelope.max_lateral_accel_mps2);
     if (options.sensors) {
       const SensorModelParams& s = options.sensor_params;
       out << formatted("  sensors: imu %g Hz, joint_states %g Hz, odom %g Hz (lag %g s), seed %u\n", s.imu_rate_hz,
