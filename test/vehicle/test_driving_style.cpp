@@ -72,8 +72,14 @@ TEST_F(DrivingStyleOnWltc, StylesStayInsideTheirEnvelopesOnTheSameRoute) {
     EXPECT_LE(m.max_jerk, (envelope.max_accel_mps2 + envelope.max_decel_mps2) / EnvelopeDriveParams().smoothing_s +
                               1e-6)
         << style;
-    // Same route (the object itself) and the profile's distance.
-    EXPECT_EQ(drive.trace.route().segments().size(), route_->segments().size());
+    // The same route, segment for segment, and the profile's distance.
+    const std::vector<RouteSegment>& segments = drive.trace.route().segments();
+    ASSERT_EQ(segments.size(), route_->segments().size());
+    for (std::size_t k = 0; k < segments.size(); ++k) {
+      EXPECT_EQ(segments[k].s_start_m, route_->segments()[k].s_start_m);
+      EXPECT_EQ(segments[k].kappa_start_per_m, route_->segments()[k].kappa_start_per_m);
+      EXPECT_EQ(segments[k].kappa_end_per_m, route_->segments()[k].kappa_end_per_m);
+    }
     EXPECT_NEAR(m.distance_m, profile_->totalDistance_m(), 1e-6) << style;
     if (std::string(style) == "calm") calm_duration = m.duration_s;
     if (std::string(style) == "aggressive") aggressive_duration = m.duration_s;

@@ -15,6 +15,7 @@
 ///     v_tau and dv_tau/dt = a_tau. Before its first cell the trace holds its start speed, after its last its end
 ///     speed.
 
+#include <utility>
 #include <vector>
 
 #include "tread_wear/vehicle/route.h"

@@ -68,6 +68,13 @@ bool readManoeuvre(const CommandLine& args, ManoeuvreParams* params, std::string
     *error = "--manoeuvre must be profile, cruise, circle or accel, not '" + name + "'";
     return false;
   }
+  // The profile's and its route's options do not shape a manoeuvre: refused rather than ignored.
+  for (const char* option : {"profile", "lateral-accel-limit", "seed"}) {
+    if (params->kind != Manoeuvre::kProfile && args.has(option)) {
+      *error = std::string("--") + option + " is not an option of --manoeuvre " + name;
+      return false;
+    }
+  }
   const std::vector<std::string> wanted = manoeuvreOptions(params->kind);
   for (const char* option : {"speed-kmh", "lateral-accel", "direction", "duration-s", "low-speed-kmh",
                              "high-speed-kmh", "accel-mps2", "decel-mps2"}) {

@@ -120,6 +120,8 @@ TEST(DriveScenarios, BadOptionsAreUsageErrorsNamingTheOption) {
       {{"--manoeuvre", "accel", "--low-speed-kmh", "80", "--high-speed-kmh", "30", "--accel-mps2", "2",
         "--decel-mps2", "3", "--duration-s", "10"},
        "--high-speed-kmh out of range"},
+      {{"--manoeuvre", "cruise", "--speed-kmh", "50", "--duration-s", "10", "--profile", "x.csv"},
+       "--profile is not an option of --manoeuvre cruise"},
       {{"--style", "sporty"}, "--style must be calm, normal or aggressive, not 'sporty'"},
       {{"--style", "calm", "--max-lateral-accel-mps2", "9"},
        "--max-lateral-accel-mps2 out of range: max_lateral_accel_mps2 = 9: must be finite, > 0 and <= 8 (0.8 g)"},
