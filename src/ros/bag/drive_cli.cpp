@@ -20,6 +20,8 @@ namespace {
 
 const char* const kUsage =
     "usage: tread_wear_drive [--manoeuvre profile|cruise|circle|accel] [manoeuvre options]\n"
+    "                        [--style calm|normal|aggressive] [--max-accel-mps2 A] [--max-decel-mps2 D]\n"
+    "                        [--max-lateral-accel-mps2 AY]\n"
     "                        [--profile SPEED.csv] [--vehicle VEHICLE.yaml] [--mass-kg M] [--drive-layout L]\n"
     "                        [--rate-hz 50] [--lateral-accel-limit 3.0] [--seed N] [--sensors] --out DRIVE.bag\n"
     "  --manoeuvre  profile: the speed profile over its route (default); cruise: constant speed on a straight;\n"
