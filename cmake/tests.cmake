@@ -29,6 +29,8 @@ endforeach()
 tread_wear_add_gtest(test_drive_replay ${PROJECT_SOURCE_DIR}/test/ros/bag/test_drive_replay.cpp ${PROJECT_NAME}_ros_bag)
 target_compile_definitions(test_drive_replay PRIVATE TREAD_WEAR_REPLAY_BINARY="$<TARGET_FILE:${PROJECT_NAME}_replay>")
 add_dependencies(test_drive_replay ${PROJECT_NAME}_replay)
+tread_wear_add_gtest(test_drive_scenarios ${PROJECT_SOURCE_DIR}/test/ros/bag/test_drive_scenarios.cpp
+                     ${PROJECT_NAME}_ros_bag)
 tread_wear_add_gtest(test_vehicle_inputs_bag ${PROJECT_SOURCE_DIR}/test/ros/bag/test_vehicle_inputs_bag.cpp
                      ${PROJECT_NAME}_ros_bag)
 tread_wear_add_gtest(test_diagnosis_bag ${PROJECT_SOURCE_DIR}/test/ros/bag/test_diagnosis_bag.cpp

@@ -41,19 +41,19 @@ double phaseTime(const nlohmann::json& phase, std::size_t i, const char* key) {
 
 }  // namespace
 
-std::string driveInfoJson(const SpeedProfile& profile, const Route& route, const RouteParams& route_params,
+std::string driveInfoJson(const DriveDescription& drive, const Route& route, const RouteParams& route_params,
                           const VehicleParams& vehicle, const DriveSampling& sampling) {
   nlohmann::json info;
   info["format"] = "tread_wear_drive";
   info["version"] = 1;
-  info["profile"] = profile.name();
+  info["profile"] = drive.name;
   info["rate_hz"] = sampling.rate_hz;
   info["time_offset_s"] = sampling.time_offset_s;
-  info["duration_s"] = profile.duration_s();
-  info["distance_m"] = profile.totalDistance_m();
+  info["duration_s"] = drive.duration_s;
+  info["distance_m"] = drive.distance_m;
   info["wheels"] = sampling.wheel_names;
   nlohmann::json phases = nlohmann::json::array();
-  for (const ProfilePhase& p : profile.phases())
+  for (const ProfilePhase& p : drive.phases)
     phases.push_back({{"name", p.name}, {"start_s", p.start_s}, {"end_s", p.end_s}});
   info["phases"] = phases;
   info["vehicle"] = vehicleJson(vehicle);
@@ -63,6 +63,18 @@ std::string driveInfoJson(const SpeedProfile& profile, const Route& route, const
                    {"seed", route_params.seed},
                    {"events", event_counts},
                    {"max_abs_lateral_accel_mps2", sampling.max_abs_lateral_accel_mps2}};
+  if (drive.scenario) {
+    nlohmann::json settings = nlohmann::json::object();
+    for (const auto& [key, value] : drive.scenario->settings) settings[key] = value;
+    nlohmann::json scenario = {{"manoeuvre", drive.scenario->manoeuvre},
+                               {"settings", settings},
+                               {"duration_s", drive.duration_s},
+                               {"distance_m", drive.distance_m},
+                               {"max_abs_accel_mps2", sampling.max_abs_accel_mps2},
+                               {"max_abs_lateral_accel_mps2", sampling.max_abs_lateral_accel_mps2}};
+    if (!drive.scenario->style.empty()) scenario["style"] = drive.scenario->style;
+    info["scenario"] = scenario;
+  }
   return info.dump(2);
 }
 

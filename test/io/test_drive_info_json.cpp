@@ -21,7 +21,8 @@ SpeedProfile shortProfile() {
 std::string shortDriveInfo() {
   const SpeedProfile profile = shortProfile();
   const RouteParams route_params;
-  return driveInfoJson(profile, buildRoute(profile, route_params), route_params, VehicleParams{},
+  return driveInfoJson({profile.name(), profile.duration_s(), profile.totalDistance_m(), profile.phases(), {}},
+                       buildRoute(profile, route_params), route_params, VehicleParams{},
                        {50.0, {"fl", "fr", "rl", "rr"}, 1000.25, 2.5});
 }
 

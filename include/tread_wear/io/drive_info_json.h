@@ -5,8 +5,10 @@
 /// back by tread_wear_replay, which takes the phases and the offset and embeds the whole document in its summary
 /// (docs/drive.md). Here, so that the bag tools never touch the JSON library.
 
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "tread_wear/vehicle/route.h"
@@ -27,6 +29,25 @@ struct DriveSampling {
   std::vector<std::string> wheel_names;      ///< in vehicle wheel order
   double time_offset_s = 0.0;                ///< bag time of the profile's time 0 [s]
   double max_abs_lateral_accel_mps2 = 0.0;   ///< largest |a_y| over the written samples [m/s^2]
+  double max_abs_accel_mps2 = 0.0;           ///< largest |a_x| over the written samples [m/s^2]
+};
+
+/// What made a drive other than a cycle driven as it prescribes: a manoeuvre (vehicle/manoeuvre.h) or the cycle's
+/// route driven within a driving style's envelope (vehicle/driving_style.h).
+struct DriveScenarioInfo {
+  std::string manoeuvre;  ///< "cruise", "circle", "accel" or "profile" (a style's drive of the profile)
+  std::string style;      ///< the style's name for a style's drive, else empty
+  /// The settings, SI with the unit in the key (speed_mps, max_accel_mps2, ...), in this order.
+  std::vector<std::pair<std::string, double>> settings;
+};
+
+/// The drive as a whole: name, extent, phases, and its scenario when it is not the cycle as prescribed.
+struct DriveDescription {
+  std::string name;                          ///< profile or manoeuvre name
+  double duration_s = 0.0;                   ///< [s]
+  double distance_m = 0.0;                   ///< [m]
+  std::vector<ProfilePhase> phases;          ///< drive time [s]
+  std::optional<DriveScenarioInfo> scenario;
 };
 
 /// The metadata as read back: what the replay uses, and the document itself to pass on.
@@ -36,9 +57,11 @@ struct DriveMetadata {
   double time_offset_s = 0.0;        ///< bag time of profile time 0 [s]; 0 when the document has none
 };
 
-/// The metadata document (format "tread_wear_drive", version 1), indented JSON: profile name, rate, time offset,
-/// duration, distance, wheels, phases, vehicle parameters, route parameters and event counts.
-std::string driveInfoJson(const SpeedProfile& profile, const Route& route, const RouteParams& route_params,
+/// The metadata document (format "tread_wear_drive", version 1), indented JSON: profile (the drive's name), rate,
+/// time offset, duration, distance, wheels, phases, vehicle parameters, route parameters and event counts, and for a
+/// scenario "scenario": {manoeuvre, style (when set), settings {...}, duration_s, distance_m, max_abs_accel_mps2,
+/// max_abs_lateral_accel_mps2}, the figures measured over the written samples.
+std::string driveInfoJson(const DriveDescription& drive, const Route& route, const RouteParams& route_params,
                           const VehicleParams& vehicle, const DriveSampling& sampling);
 
 /// Reads the phases and the time offset of a metadata document (both optional; other keys are passed on

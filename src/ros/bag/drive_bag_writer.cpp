@@ -18,18 +18,16 @@
 namespace tread_wear {
 namespace {
 
-/// Sample count of a rate over the profile (as the truth topics: both ends included).
-std::size_t sampleCount(const SpeedProfile& profile, double rate_hz) {
-  return static_cast<std::size_t>(std::floor(profile.duration_s() * rate_hz + 1e-9)) + 1;
+/// Sample count of a rate over the drive (as the truth topics: both ends included).
+std::size_t sampleCount(const DriveMotion& drive, double rate_hz) {
+  return static_cast<std::size_t>(std::floor(drive.duration_s() * rate_hz + 1e-9)) + 1;
 }
 
-void writeSensorTopics(rosbag::Bag* bag, const SpeedProfile& profile, const Route& route, const VehicleModel& vehicle,
+void writeSensorTopics(rosbag::Bag* bag, const DriveMotion& drive, const VehicleModel& vehicle,
                        const SensorModelParams& params) {
   SensorModel sensors(params, vehicle.params().gravity_mps2);
-  const double t0 = profile.startTime_s();
-  auto motionAt = [&](double t) {
-    return VehicleMotion{profile.speed(t), profile.acceleration(t), route.curvature(profile.distance(t))};
-  };
+  const double t0 = drive.startTime_s();
+  auto motionAt = [&](double t) { return drive.at(t); };
   VehicleState state;
 
   TfStaticMessage tf;
@@ -57,7 +55,7 @@ void writeSensorTopics(rosbag::Bag* bag, const SpeedProfile& profile, const Rout
     imu.linear_acceleration_covariance[4 * j] = var_f;
     imu.angular_velocity_covariance[4 * j] = var_w;
   }
-  const std::size_t n_imu = sampleCount(profile, params.imu_rate_hz);
+  const std::size_t n_imu = sampleCount(drive, params.imu_rate_hz);
   for (std::size_t k = 0; k < n_imu; ++k) {
     const double t = t0 + static_cast<double>(k) / params.imu_rate_hz;
     const VehicleMotion motion = motionAt(t);
@@ -83,7 +81,7 @@ void writeSensorTopics(rosbag::Bag* bag, const SpeedProfile& profile, const Rout
   for (const char* name : kJointNames) joints.name.push_back(name);
   joints.position.assign(kWheelCount + 1, 0.0);
   joints.velocity.assign(kWheelCount + 1, 0.0);
-  const std::size_t n_wheel = sampleCount(profile, params.wheel_rate_hz);
+  const std::size_t n_wheel = sampleCount(drive, params.wheel_rate_hz);
   const double dt_wheel = 1.0 / params.wheel_rate_hz;
   for (std::size_t k = 0; k < n_wheel; ++k) {
     const double t = t0 + static_cast<double>(k) * dt_wheel;
@@ -103,7 +101,7 @@ void writeSensorTopics(rosbag::Bag* bag, const SpeedProfile& profile, const Rout
   odom.child_frame_id = kBaseFrame;
   odom.pose.pose.orientation.w = 1.0;
   odom.twist.covariance[0] = params.odometry_noise_mps * params.odometry_noise_mps;
-  const std::size_t n_odom = sampleCount(profile, params.odometry_rate_hz);
+  const std::size_t n_odom = sampleCount(drive, params.odometry_rate_hz);
   for (std::size_t k = 0; k < n_odom; ++k) {
     const double t = t0 + static_cast<double>(k) / params.odometry_rate_hz;
     odom.header.stamp = ros::Time(t - t0 + kDriveTimeOffset_s);
@@ -119,7 +117,7 @@ WheelInputTopics wheelInputTopics(const std::string& name) {
   return {prefix + "load", prefix + "slip", prefix + "speed", "wheel_" + name};
 }
 
-DriveStats writeDriveBag(const std::string& path, const SpeedProfile& profile, const Route& route,
+DriveStats writeDriveBag(const std::string& path, const DriveMotion& drive, const DriveDescription& description,
                          const VehicleModel& vehicle, const RouteParams& route_params, const DriveOptions& options) {
   if (!(options.rate_hz > 0.0) || options.wheel_names.size() != static_cast<std::size_t>(kWheelCount))
     throw BagError(path + ": drive needs rate_hz > 0 and 4 wheel names");
@@ -131,17 +129,18 @@ DriveStats writeDriveBag(const std::string& path, const SpeedProfile& profile, c
   std::vector<WheelInputTopics> topics;
   for (const std::string& name : options.wheel_names) topics.push_back(wheelInputTopics(name));
   DriveStats stats;
-  const std::size_t n = static_cast<std::size_t>(std::floor(profile.duration_s() * options.rate_hz + 1e-9)) + 1;
+  const std::size_t n = sampleCount(drive, options.rate_hz);
   WheelLoad load;
   WheelSlip slip;
   WheelSpeed speed;
   VehicleState state;
   for (std::size_t k = 0; k < n; ++k) {
-    const double t = profile.startTime_s() + static_cast<double>(k) / options.rate_hz;
-    const VehicleMotion motion{profile.speed(t), profile.acceleration(t), route.curvature(profile.distance(t))};
+    const double t = drive.startTime_s() + static_cast<double>(k) / options.rate_hz;
+    const VehicleMotion motion = drive.at(t);
     vehicle.evaluate(motion, &state);
     stats.max_abs_lateral_accel_mps2 = std::max(stats.max_abs_lateral_accel_mps2, std::fabs(state.lateral_accel_mps2));
-    const ros::Time stamp(t - profile.startTime_s() + kDriveTimeOffset_s);
+    stats.max_abs_accel_mps2 = std::max(stats.max_abs_accel_mps2, std::fabs(motion.accel_mps2));
+    const ros::Time stamp(t - drive.startTime_s() + kDriveTimeOffset_s);
     for (int i = 0; i < kWheelCount; ++i) {
       const WheelState& w = state.wheels[static_cast<std::size_t>(i)];
       load.header.stamp = slip.header.stamp = speed.header.stamp = stamp;
@@ -157,17 +156,26 @@ DriveStats writeDriveBag(const std::string& path, const SpeedProfile& profile, c
     }
   }
   stats.samples = n;
-  stats.duration_s = profile.duration_s();
-  stats.distance_m = profile.totalDistance_m();
-  if (options.sensors) writeSensorTopics(&bag, profile, route, vehicle, options.sensor_params);
+  stats.duration_s = drive.duration_s();
+  stats.distance_m = drive.distance_m();
+  if (options.sensors) writeSensorTopics(&bag, drive, vehicle, options.sensor_params);
 
+  DriveDescription described = description;
+  described.duration_s = stats.duration_s;
+  described.distance_m = stats.distance_m;
   std_msgs::String text;
-  text.data = driveInfoJson(profile, route, route_params, vehicle.params(),
-                            {options.rate_hz, options.wheel_names, kDriveTimeOffset_s - profile.startTime_s(),
-                             stats.max_abs_lateral_accel_mps2});
+  text.data = driveInfoJson(described, drive.route(), route_params, vehicle.params(),
+                            {options.rate_hz, options.wheel_names, kDriveTimeOffset_s - drive.startTime_s(),
+                             stats.max_abs_lateral_accel_mps2, stats.max_abs_accel_mps2});
   bag.write(kDriveInfoTopic, ros::Time(kDriveTimeOffset_s), text);
   bag.close();
   return stats;
+}
+
+DriveStats writeDriveBag(const std::string& path, const SpeedProfile& profile, const Route& route,
+                         const VehicleModel& vehicle, const RouteParams& route_params, const DriveOptions& options) {
+  return writeDriveBag(path, ProfileMotion(profile, route), {profile.name(), 0.0, 0.0, profile.phases(), {}}, vehicle,
+                       route_params, options);
 }
 
 }  // namespace tread_wear

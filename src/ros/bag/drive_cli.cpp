@@ -2,27 +2,183 @@
 
 #include <ros/time.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <exception>
+#include <utility>
+#include <vector>
 
 #include "tread_wear/cli/command_line.h"
 #include "tread_wear/io/speed_profile_csv.h"
 #include "tread_wear/io/vehicle_params_io.h"
 #include "tread_wear/ros/bag/drive_bag_writer.h"
+#include "tread_wear/vehicle/driving_style.h"
+#include "tread_wear/vehicle/manoeuvre.h"
 
 namespace tread_wear {
 namespace {
 
 const char* const kUsage =
-    "usage: tread_wear_drive [--profile SPEED.csv] [--vehicle VEHICLE.yaml] [--rate-hz 50]\n"
-    "                        [--lateral-accel-limit 3.0] [--seed N] [--sensors] --out DRIVE.bag\n"
-    "  --profile   speed profile CSV (time_s, speed_kmh or speed_mps) [default: data/wltc_class3b.csv]\n"
-    "  --vehicle   vehicle parameters [default: config/vehicle_passenger_car.yaml]\n"
-    "  --rate-hz   sample rate of every input topic [Hz]\n"
-    "  --lateral-accel-limit  a_y limit that sets the route's curve radii [m/s^2]\n"
-    "  --seed      route random stream (deterministic per seed)\n"
-    "  --sensors   also write what the car's sensors measured on the same drive: imu, joint_states, odom,\n"
-    "              /tf_static (sensor model and its fixed parameters: docs/vehicle_inputs.md)\n";
+    "usage: tread_wear_drive [--manoeuvre profile|cruise|circle|accel] [manoeuvre options]\n"
+    "                        [--style calm|normal|aggressive] [--max-accel-mps2 A] [--max-decel-mps2 D]\n"
+    "                        [--max-lateral-accel-mps2 AY]\n"
+    "                        [--profile SPEED.csv] [--vehicle VEHICLE.yaml] [--mass-kg M] [--drive-layout L]\n"
+    "                        [--rate-hz 50] [--lateral-accel-limit 3.0] [--seed N] [--sensors] --out DRIVE.bag\n"
+    "  --manoeuvre  profile: the speed profile over its route (default); cruise: constant speed on a straight;\n"
+    "               circle: steady cornering; accel: accelerate/brake cycles on a straight (docs/drive.md)\n"
+    "    cruise, circle: --speed-kmh V [km/h] --duration-s T [s], started at steady state\n"
+    "    circle:         --lateral-accel A [m/s^2] (radius V^2/A, <= 8) [--direction left|right]\n"
+    "    accel:          --low-speed-kmh V1 --high-speed-kmh V2 [km/h] --accel-mps2 A --decel-mps2 D [m/s^2, > 0]\n"
+    "                    --duration-s T: from V1, accelerate at A to V2, brake at D to V1, repeated\n"
+    "  --style calm|normal|aggressive  drive the profile's route and stops within the style's envelope:\n"
+    "               a_max/d_max/a_y,max 1.0/1.5/2.0, 1.7/2.5/3.0, 3.0/4.0/4.5 m/s^2 (docs/drive.md)\n"
+    "  --max-accel-mps2 A  --max-decel-mps2 D  --max-lateral-accel-mps2 AY  the envelope's values instead of the\n"
+    "               style's (style normal when only these are given) [m/s^2, > 0, <= 8]\n"
+    "  --profile    speed profile CSV (time_s, speed_kmh or speed_mps) [default: data/wltc_class3b.csv]\n"
+    "  --vehicle    vehicle parameters [default: config/vehicle_passenger_car.yaml]\n"
+    "  --mass-kg    vehicle mass instead of the file's [kg]; static loads follow, CoG position kept\n"
+    "  --drive-layout  front|rear|all instead of the file's\n"
+    "  --rate-hz    sample rate of every input topic [Hz]\n"
+    "  --lateral-accel-limit  a_y limit that sets the profile route's curve radii [m/s^2]\n"
+    "  --seed       route random stream (deterministic per seed)\n"
+    "  --sensors    also write what the car's sensors measured on the same drive: imu, joint_states, odom,\n"
+    "               /tf_static (sensor model and its fixed parameters: docs/vehicle_inputs.md)\n";
+
+/// The command-line option of each ManoeuvreParams field, so that a validation error names what the user typed.
+const std::pair<const char*, const char*> kManoeuvreOptions[] = {
+    {"speed_mps", "--speed-kmh"},         {"lateral_accel_mps2", "--lateral-accel"},
+    {"duration_s", "--duration-s"},       {"low_speed_mps", "--low-speed-kmh"},
+    {"high_speed_mps", "--high-speed-kmh"}, {"accel_mps2", "--accel-mps2"},
+    {"decel_mps2", "--decel-mps2"}};
+
+/// The options each manoeuvre takes (all required); any other manoeuvre option is a usage error.
+std::vector<std::string> manoeuvreOptions(Manoeuvre kind) {
+  switch (kind) {
+    case Manoeuvre::kProfile: return {};
+    case Manoeuvre::kCruise: return {"speed-kmh", "duration-s"};
+    case Manoeuvre::kCircle: return {"speed-kmh", "lateral-accel", "duration-s"};
+    case Manoeuvre::kAccelCycles:
+      return {"low-speed-kmh", "high-speed-kmh", "accel-mps2", "decel-mps2", "duration-s"};
+  }
+  return {};
+}
+
+/// Reads the manoeuvre's options into params (km/h to m/s); false with a message naming the option.
+bool readManoeuvre(const CommandLine& args, ManoeuvreParams* params, std::string* error) {
+  const std::string name = args.get("manoeuvre", "profile");
+  if (!parseManoeuvre(name, &params->kind)) {
+    *error = "--manoeuvre must be profile, cruise, circle or accel, not '" + name + "'";
+    return false;
+  }
+  // The profile's and its route's options do not shape a manoeuvre: refused rather than ignored.
+  for (const char* option : {"profile", "lateral-accel-limit", "seed"}) {
+    if (params->kind != Manoeuvre::kProfile && args.has(option)) {
+      *error = std::string("--") + option + " is not an option of --manoeuvre " + name;
+      return false;
+    }
+  }
+  const std::vector<std::string> wanted = manoeuvreOptions(params->kind);
+  for (const char* option : {"speed-kmh", "lateral-accel", "direction", "duration-s", "low-speed-kmh",
+                             "high-speed-kmh", "accel-mps2", "decel-mps2"}) {
+    const bool used = std::find(wanted.begin(), wanted.end(), option) != wanted.end() ||
+                      (params->kind == Manoeuvre::kCircle && std::string(option) == "direction");
+    if (args.has(option) && !used) {
+      *error = std::string("--") + option + " is not an option of --manoeuvre " + name;
+      return false;
+    }
+  }
+  for (const std::string& option : wanted) {
+    if (!args.has(option)) {
+      *error = "--manoeuvre " + name + " needs --" + option;
+      return false;
+    }
+  }
+  double speed_kmh = params->speed_mps * 3.6, low_kmh = params->low_speed_mps * 3.6,
+         high_kmh = params->high_speed_mps * 3.6;
+  if (!args.number("speed-kmh", &speed_kmh, error) || !args.number("lateral-accel", &params->lateral_accel_mps2, error) ||
+      !args.number("duration-s", &params->duration_s, error) || !args.number("low-speed-kmh", &low_kmh, error) ||
+      !args.number("high-speed-kmh", &high_kmh, error) || !args.number("accel-mps2", &params->accel_mps2, error) ||
+      !args.number("decel-mps2", &params->decel_mps2, error))
+    return false;
+  params->speed_mps = speed_kmh / 3.6;
+  params->low_speed_mps = low_kmh / 3.6;
+  params->high_speed_mps = high_kmh / 3.6;
+  const std::string direction = args.get("direction", "left");
+  if (direction != "left" && direction != "right") {
+    *error = "--direction must be left or right, not '" + direction + "'";
+    return false;
+  }
+  params->turn_right = direction == "right";
+  std::string field_error;
+  if (params->validate(&field_error)) return true;
+  for (const auto& [field, option] : kManoeuvreOptions) {
+    if (field_error.rfind(std::string(field) + " =", 0) == 0) {
+      *error = std::string(option) + " out of range: " + field_error;
+      return false;
+    }
+  }
+  *error = field_error;
+  return false;
+}
+
+/// The command-line option of each DrivingEnvelope field.
+const std::pair<const char*, const char*> kEnvelopeOptions[] = {{"max_accel_mps2", "--max-accel-mps2"},
+                                                                {"max_decel_mps2", "--max-decel-mps2"},
+                                                                {"max_lateral_accel_mps2", "--max-lateral-accel-mps2"}};
+
+/// Reads --style and the envelope options; *style is empty when none of them is given (the profile as it
+/// prescribes). False with a message naming the option.
+bool readEnvelope(const CommandLine& args, bool profile_drive, std::string* style, DrivingEnvelope* envelope,
+                  std::string* error) {
+  style->clear();
+  bool any = false;
+  for (const char* option : {"style", "max-accel-mps2", "max-decel-mps2", "max-lateral-accel-mps2"}) {
+    if (!args.has(option)) continue;
+    if (!profile_drive) {
+      *error = std::string("--") + option + " is not an option of --manoeuvre " + args.get("manoeuvre");
+      return false;
+    }
+    any = true;
+  }
+  if (!any) return true;
+  *style = args.get("style", "normal");
+  if (!drivingStyle(*style, envelope)) {
+    *error = "--style must be calm, normal or aggressive, not '" + *style + "'";
+    return false;
+  }
+  if (!args.number("max-accel-mps2", &envelope->max_accel_mps2, error) ||
+      !args.number("max-decel-mps2", &envelope->max_decel_mps2, error) ||
+      !args.number("max-lateral-accel-mps2", &envelope->max_lateral_accel_mps2, error))
+    return false;
+  std::string field_error;
+  if (envelope->validate(&field_error)) return true;
+  for (const auto& [field, option] : kEnvelopeOptions) {
+    if (field_error.rfind(std::string(field) + " =", 0) == 0) {
+      *error = std::string(option) + " out of range: " + field_error;
+      return false;
+    }
+  }
+  *error = field_error;
+  return false;
+}
+
+/// The vehicle file's parameters with the command line's mass and drive layout; false with a message naming the
+/// option. The CoG position (l_f) is kept, so the static loads scale with the mass.
+bool overrideVehicle(const CommandLine& args, VehicleParams* vehicle, std::string* error) {
+  if (!args.number("mass-kg", &vehicle->mass_kg, error)) return false;
+  if (args.has("drive-layout") && !parseDriveLayout(args.get("drive-layout"), &vehicle->drive_layout)) {
+    *error = "--drive-layout must be front, rear or all, not '" + args.get("drive-layout") + "'";
+    return false;
+  }
+  std::string field_error;
+  if (!vehicle->validate(&field_error)) {
+    *error = (args.has("mass-kg") && field_error.rfind("mass_kg =", 0) == 0 ? "--mass-kg out of range: "
+                                                                             : "vehicle parameters: ") +
+             field_error;
+    return false;
+  }
+  return true;
+}
 
 }  // namespace
 
@@ -35,8 +191,12 @@ int runDriveCli(int argc, const char* const argv[], const std::string& share_dir
   };
   CommandLine args;
   std::string error;
-  if (!args.parse(argc, argv, {"profile", "vehicle", "out", "rate-hz", "lateral-accel-limit", "seed"}, {"sensors"},
-                  &error))
+  if (!args.parse(argc, argv,
+                  {"profile", "vehicle", "out", "rate-hz", "lateral-accel-limit", "seed", "manoeuvre", "speed-kmh",
+                   "lateral-accel", "direction", "duration-s", "low-speed-kmh", "high-speed-kmh", "accel-mps2",
+                   "decel-mps2", "mass-kg", "drive-layout", "style", "max-accel-mps2", "max-decel-mps2",
+                   "max-lateral-accel-mps2"},
+                  {"sensors"}, &error))
     return usage_error(error);
   if (args.help()) {
     out << kUsage;
@@ -51,22 +211,74 @@ int runDriveCli(int argc, const char* const argv[], const std::string& share_dir
   if (!(options.rate_hz > 0.0)) return usage_error("--rate-hz must be > 0");
   if (seed < 0) return usage_error("--seed must be >= 0");
   route_params.seed = static_cast<std::uint32_t>(seed);
+  ManoeuvreParams manoeuvre;
+  if (!readManoeuvre(args, &manoeuvre, &error)) return usage_error(error);
+  std::string style;
+  DrivingEnvelope envelope;
+  if (!readEnvelope(args, manoeuvre.kind == Manoeuvre::kProfile, &style, &envelope, &error)) return usage_error(error);
   options.sensors = args.has("sensors");
   const std::string profile_path = args.get("profile", share_dir + "/data/wltc_class3b.csv");
   const std::string vehicle_path = args.get("vehicle", share_dir + "/config/vehicle_passenger_car.yaml");
   const std::string bag_path = args.get("out");
   try {
     ros::Time::init();
-    const SpeedProfile profile = loadSpeedProfile(profile_path);
-    const VehicleModel vehicle(loadVehicleParams(vehicle_path));
-    const Route route = buildRoute(profile, route_params);
+    VehicleParams vehicle_params = loadVehicleParams(vehicle_path);
+    if (!overrideVehicle(args, &vehicle_params, &error)) return usage_error(error);
+    const VehicleModel vehicle(vehicle_params);
     for (int w = 0; w < kWheelCount; ++w) options.wheel_names.push_back(wheelName(w));
-    const DriveStats stats = writeDriveBag(bag_path, profile, route, vehicle, route_params, options);
+    std::string name;
+    DriveStats stats;
+    std::size_t curve_events = 0;
+    if (manoeuvre.kind == Manoeuvre::kProfile) {
+      const SpeedProfile profile = loadSpeedProfile(profile_path);
+      const Route route = buildRoute(profile, route_params);
+      name = profile.name();
+      curve_events = route.events().size();
+      if (style.empty()) {
+        stats = writeDriveBag(bag_path, profile, route, vehicle, route_params, options);
+      } else {
+        const EnvelopeDriveParams drive_params;
+        const EnvelopeDrive drive = driveWithinEnvelope(profile, route, envelope, drive_params);
+        const DriveScenarioInfo scenario{"profile",
+                                         style,
+                                         {{"max_accel_mps2", envelope.max_accel_mps2},
+                                          {"max_decel_mps2", envelope.max_decel_mps2},
+                                          {"max_lateral_accel_mps2", envelope.max_lateral_accel_mps2},
+                                          {"target_window_m", drive_params.target_window_m},
+                                          {"smoothing_s", drive_params.smoothing_s}}};
+        stats = writeDriveBag(bag_path, drive.trace, {name, 0.0, 0.0, drive.phases, scenario}, vehicle, route_params,
+                              options);
+      }
+    } else {
+      const SpeedTrace trace = buildManoeuvre(manoeuvre);
+      name = manoeuvreName(manoeuvre.kind);
+      DriveScenarioInfo scenario{name, "", {}};
+      if (manoeuvre.kind == Manoeuvre::kAccelCycles) {
+        scenario.settings = {{"low_speed_mps", manoeuvre.low_speed_mps},
+                             {"high_speed_mps", manoeuvre.high_speed_mps},
+                             {"accel_mps2", manoeuvre.accel_mps2},
+                             {"decel_mps2", manoeuvre.decel_mps2},
+                             {"smoothing_s", trace.smoothing_s()}};
+      } else {
+        scenario.settings = {{"speed_mps", manoeuvre.speed_mps}};
+        if (manoeuvre.kind == Manoeuvre::kCircle) {
+          scenario.settings.push_back({"lateral_accel_mps2", manoeuvre.lateral_accel_mps2});
+          scenario.settings.push_back({"radius_m", manoeuvre.circleRadius_m()});
+          scenario.settings.push_back({"curvature_per_m", trace.route().curvature(0.0)});  // > 0 left
+        }
+      }
+      stats = writeDriveBag(bag_path, trace, {name, 0.0, 0.0, {}, scenario}, vehicle, route_params, options);
+    }
     out << formatted(
         "%s: %s, %.0f s, %.2f km, %zu samples x 4 wheels at %g Hz, "
-        "%zu curve events, max |a_y| %.2f m/s^2\n",
-        bag_path.c_str(), profile.name().c_str(), stats.duration_s, stats.distance_m / 1000.0, stats.samples,
-        options.rate_hz, route.events().size(), stats.max_abs_lateral_accel_mps2);
+        "%zu curve events, max |a_x| %.2f m/s^2, max |a_y| %.2f m/s^2\n",
+        bag_path.c_str(), name.c_str(), stats.duration_s, stats.distance_m / 1000.0, stats.samples, options.rate_hz,
+        curve_events, stats.max_abs_accel_mps2, stats.max_abs_lateral_accel_mps2);
+    out << formatted("  vehicle: %s, %.0f kg, %s-wheel drive\n", vehicle_params.name.c_str(), vehicle_params.mass_kg,
+                     driveLayoutName(vehicle_params.drive_layout));
+    if (!style.empty())
+      out << formatted("  style %s: a_max %g, d_max %g, a_y,max %g m/s^2\n", style.c_str(), envelope.max_accel_mps2,
+                       envelope.max_decel_mps2, envelope.max_lateral_accel_mps2);
     if (options.sensors) {
       const SensorModelParams& s = options.sensor_params;
       out << formatted("  sensors: imu %g Hz, joint_states %g Hz, odom %g Hz (lag %g s), seed %u\n", s.imu_rate_hz,

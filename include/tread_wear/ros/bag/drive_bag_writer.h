@@ -7,7 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "tread_wear/io/drive_info_json.h"
 #include "tread_wear/ros/bag/bag_check.h"
+#include "tread_wear/vehicle/drive_motion.h"
 #include "tread_wear/vehicle/route.h"
 #include "tread_wear/vehicle/sensor_model.h"
 #include "tread_wear/vehicle/speed_profile.h"
@@ -58,11 +60,17 @@ struct DriveStats {
   double duration_s = 0.0;        ///< [s]
   double distance_m = 0.0;        ///< [m]
   double max_abs_lateral_accel_mps2 = 0.0;  ///< [m/s^2]
+  double max_abs_accel_mps2 = 0.0;          ///< largest |a_x| over the samples [m/s^2]
 };
 
 /// Writes the drive: for each of the 4 wheels load, slip and speed at rate_hz, header and record time = drive
 /// time + kDriveTimeOffset_s, plus the metadata on kDriveInfoTopic; with options.sensors also the sensor topics
-/// above (same drive, its own sample rates). @throw BagError when the file cannot be written
+/// above (same drive, its own sample rates). The metadata describes the drive as `description` says (its duration
+/// and distance are the motion's), with the route of the motion built with route_params.
+/// @throw BagError when the file cannot be written
+DriveStats writeDriveBag(const std::string& path, const DriveMotion& motion, const DriveDescription& description,
+                         const VehicleModel& vehicle, const RouteParams& route_params, const DriveOptions& options);
+/// The profile driven as it prescribes over the route (ProfileMotion), named and phased as the profile.
 DriveStats writeDriveBag(const std::string& path, const SpeedProfile& profile, const Route& route,
                          const VehicleModel& vehicle, const RouteParams& route_params, const DriveOptions& options);
 
