@@ -122,6 +122,38 @@ std::string fingerprintText(std::uint64_t fingerprint) {
   return buffer;
 }
 
+std::array<std::string, kWheelCount> defaultVehicleWheelNames() {
+  std::array<std::string, kWheelCount> names;
+  for (int i = 0; i < kWheelCount; ++i) names[static_cast<std::size_t>(i)] = wheelName(i);
+  return names;
+}
+
+bool matchVehicleWheels(const std::vector<std::string>& wheel_names,
+                        const std::array<std::string, kWheelCount>& vehicle_wheel_names,
+                        std::array<std::size_t, kWheelCount>* index_of_vehicle_wheel, std::string* error) {
+  std::string listed;
+  for (const std::string& n : wheel_names) listed += (listed.empty() ? "" : ", ") + n;
+  for (std::size_t i = 0; i < kWheelCount; ++i) {
+    std::size_t found = wheel_names.size();
+    for (std::size_t k = 0; k < wheel_names.size(); ++k) {
+      if (wheel_names[k] != vehicle_wheel_names[i]) continue;
+      if (found != wheel_names.size()) {
+        if (error != nullptr) *error = "wheel '" + wheel_names[k] + "' is named twice among [" + listed + "]";
+        return false;
+      }
+      found = k;
+    }
+    if (found == wheel_names.size()) {
+      if (error != nullptr)
+        *error = "the wheels [" + listed + "] are not a four-wheel car: none is the " + wheelName(static_cast<int>(i)) +
+                 " wheel '" + vehicle_wheel_names[i] + "'";
+      return false;
+    }
+    (*index_of_vehicle_wheel)[i] = found;
+  }
+  return true;
+}
+
 const char* costStatusName(CostStatus status) {
   switch (status) {
     case CostStatus::kOk: return "ok";

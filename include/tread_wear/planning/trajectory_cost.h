@@ -33,6 +33,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "tread_wear/estimation/wheel_estimator.h"
 #include "tread_wear/model/wear_model.h"
@@ -73,6 +74,16 @@ struct VehicleWearSetup {
 std::uint64_t setupFingerprint(const VehicleWearSetup& setup);
 /// The fingerprint as 16 hex digits.
 std::string fingerprintText(std::uint64_t fingerprint);
+
+/// Which of `wheel_names` (a node's or a wheel file's wheels) is each vehicle wheel: vehicle_wheel_names[i] names
+/// vehicle wheel i (front_left, front_right, rear_left, rear_right: wheelName(i) when that is how the wheels are
+/// named). false with *error saying why the wheels are not a four-wheel car (a vehicle wheel that none of them is,
+/// or a name given twice); *index_of_vehicle_wheel[i] = index into wheel_names.
+bool matchVehicleWheels(const std::vector<std::string>& wheel_names,
+                        const std::array<std::string, kWheelCount>& vehicle_wheel_names,
+                        std::array<std::size_t, kWheelCount>* index_of_vehicle_wheel, std::string* error);
+/// The default vehicle wheel names: front_left, front_right, rear_left, rear_right (config/vehicle_wheels.yaml).
+std::array<std::string, kWheelCount> defaultVehicleWheelNames();
 
 enum class CostStatus : std::uint8_t {
   kOk = 0,
