@@ -43,8 +43,14 @@ struct WearMapParams {
   /// steps to 6 m/s, 2.5 m/s steps above 10 m/s.
   std::vector<double> speed_mps = {0.1,  0.25, 0.5,  1.0,  1.5,  2.0,  3.0,  4.0,  5.0,  6.0,  8.0,  10.0, 12.5, 15.0,
                                    17.5, 20.0, 22.5, 25.0, 27.5, 30.0, 32.5, 35.0, 37.5, 40.0, 42.5, 45.0};
-  /// Longitudinal acceleration nodes [m/s^2], strictly increasing: -8 (hard braking) to +5, every 0.5.
-  std::vector<double> accel_x_mps2 = uniformAxis(-8.0, 5.0, 27);
+  /// Longitudinal acceleration nodes [m/s^2], strictly increasing: -8 (hard braking) to +5, every 0.25 within
+  /// +-3 m/s^2 and every 0.5 beyond. Wear rises steeply from its minimum near zero drive force (Eq 19 on the driven
+  /// wheels' slip), where ln(wdot) bends most: 0.5 m/s^2 cells there cost up to 13 % per sample, 0.25 about 3 %
+  /// (docs/planner.md).
+  std::vector<double> accel_x_mps2 = {-8.0,  -7.5, -7.0,  -6.5, -6.0,  -5.5, -5.0,  -4.5, -4.0, -3.5,
+                                      -3.0,  -2.75, -2.5, -2.25, -2.0, -1.75, -1.5, -1.25, -1.0, -0.75,
+                                      -0.5,  -0.25, 0.0,  0.25,  0.5,  0.75,  1.0,  1.25,  1.5,  1.75,
+                                      2.0,   2.25, 2.5,   2.75,  3.0,  3.5,   4.0,  4.5,   5.0};
   /// Lateral share nodes eta [-], strictly increasing in [-1, 1] (file comment), every 1/36 (0.25 m/s^2 at speed).
   std::vector<double> lateral_share = uniformAxis(-1.0, 1.0, 73);
   double max_lateral_accel_mps2 = 9.0;  ///< A_y, reach of the lateral axis at speed [m/s^2], > 0 (beyond a road
