@@ -1,5 +1,9 @@
 #include "tread_wear/ros/node_planner.h"
 
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
 #include <cmath>
 #include <condition_variable>
 #include <limits>
@@ -185,6 +189,9 @@ bool NodePlanner::refresh(Preset configured, double now_s) {
 }
 
 void NodePlanner::State::builderLoop() {
+  // Lowest CPU priority for this thread and the build threads it starts (Linux: nice is per thread and inherited),
+  // so that a map build yields to the update loop, the spinner and everything else on the machine.
+  setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 19);
   for (;;) {
     VehicleWearSetup setup;
     {

@@ -131,7 +131,7 @@ TEST(TrajectoryCostCli, GeneratedCandidatesFromTheMapAreWithinThreePercentOfDire
   const ToolRun generated = run({"--generate", "4", "--seed", "3"});
   ASSERT_EQ(generated.rc, 0) << generated.err;
   EXPECT_EQ(rows(generated.out).size(), 401u);  // header + 4 x 100 samples
-  const ToolRun r = run({"--vehicle", kVehicle, "--tire", kTire, "--preset", "fast", "--compare", "--threads", "2", "-"},
+  const ToolRun r = run({"--vehicle", kVehicle, "--tire", kTire, "--preset", "fast", "--compare", "--threads", "1", "-"},
                     generated.out);
   ASSERT_EQ(r.rc, 0) << r.err;
   const auto table = rows(r.out);
