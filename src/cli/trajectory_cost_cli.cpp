@@ -28,7 +28,8 @@ const char* const kUsage =
     "total_wear_kg, wear_per_distance_kg_per_m (1 mg/km = 1e-9 kg/m), wear_<wheel>_kg, stick_<wheel>,\n"
     "slide_<wheel> (time-weighted), message (why a trajectory was not evaluated; empty when ok).\n"
     "Input columns (SI; any order): trajectory_id, time_s (strictly increasing per trajectory), speed_mps (>= 0),\n"
-    "accel_mps2, curvature_per_m (CoG path, left turn positive). Flat road: a grade column is rejected.\n"
+    "accel_mps2, curvature_per_m (CoG path, left turn positive), optional grade_rad (uphill positive; empty\n"
+    "column = flat road; the map is for a flat road only: --map fails a trajectory on a grade).\n"
     "  --vehicle FILE     vehicle parameters, e.g. config/vehicle_passenger_car.yaml\n"
     "  --tire FILE        one tire parameter file for all four wheels (docs/parameters.md)\n"
     "  --wheels FILE      or the node's wheel configuration (config/vehicle_wheels.yaml): the tire of each of\n"
@@ -125,7 +126,9 @@ bool loadSetup(const CommandLine& args, VehicleWearSetup* setup, std::string* er
 }  // namespace
 
 bool readTrajectoryCsv(std::istream& in, std::vector<CandidateTrajectory>* trajectories, std::string* error) {
-  static const char* const kColumns[] = {"trajectory_id", "time_s", "speed_mps", "accel_mps2", "curvature_per_m"};
+  static const char* const kColumns[] = {"trajectory_id", "time_s", "speed_mps", "accel_mps2", "curvature_per_m",
+                                         "grade_rad"};
+  constexpr int kRequired = 5;  // grade_rad is optional
   std::string line;
   std::vector<std::string> cells;
   int line_number = 0;
@@ -138,14 +141,13 @@ bool readTrajectoryCsv(std::istream& in, std::vector<CandidateTrajectory>* traje
     if (!line.empty() && line.find_first_not_of(" \t\r") != std::string::npos) break;
   }
   if (!csv::splitLine(line, &cells, error)) return fail(*error);
-  int column[5];
-  for (int c = 0; c < 5; ++c) {
+  int column[6];
+  for (int c = 0; c < 6; ++c) {
     column[c] = csv::findColumn(cells, kColumns[c]);
-    if (column[c] < 0) return fail(std::string("missing column ") + kColumns[c]);
+    if (column[c] < 0 && c < kRequired) return fail(std::string("missing column ") + kColumns[c]);
   }
   for (const std::string& name : cells) {
-    if (name == "grade" || name == "grade_rad")
-      return fail("column " + name + ": the vehicle model is for a flat road (no grade); drop the column");
+    if (name == "grade") return fail("column grade: name it grade_rad (the road grade in radians, uphill positive)");
     bool known = false;
     for (const char* k : kColumns) known = known || name == k;
     if (!known) return fail("unknown column '" + name + "'");
@@ -161,9 +163,9 @@ bool readTrajectoryCsv(std::istream& in, std::vector<CandidateTrajectory>* traje
       return fail(std::to_string(cells.size()) + " cells, the header has " + std::to_string(width));
     const std::string& id = cells[static_cast<std::size_t>(column[0])];
     if (id.empty()) return fail("trajectory_id is empty");
-    double v[4];
-    for (int c = 1; c < 5; ++c)
-      if (!csv::parseFiniteDouble(cells[static_cast<std::size_t>(column[c])], &v[c - 1]))
+    double v[5] = {0.0, 0.0, 0.0, 0.0, 0.0};  // grade 0 without its column
+    for (int c = 1; c < 6; ++c)
+      if (column[c] >= 0 && !csv::parseFiniteDouble(cells[static_cast<std::size_t>(column[c])], &v[c - 1]))
         return fail(std::string("column ") + kColumns[c] + ": '" + cells[static_cast<std::size_t>(column[c])] +
                     "' is not a finite number");
     auto found = index_of.find(id);
@@ -171,7 +173,7 @@ bool readTrajectoryCsv(std::istream& in, std::vector<CandidateTrajectory>* traje
       found = index_of.emplace(id, trajectories->size()).first;
       trajectories->push_back({id, {}});
     }
-    (*trajectories)[found->second].samples.push_back({v[0], v[1], v[2], v[3]});
+    (*trajectories)[found->second].samples.push_back({v[0], v[1], v[2], v[3], v[4]});
   }
   return true;
 }

@@ -78,6 +78,8 @@ bool VehicleWearSetup::validate(std::string* error) const {
   }
   if (!(std::isfinite(max_path_curvature_per_m) && max_path_curvature_per_m > 0.0))
     return failValidation(error, "max_path_curvature_per_m", max_path_curvature_per_m, "finite and > 0 [1/m]");
+  if (!(max_abs_grade_rad > 0.0 && max_abs_grade_rad < 1.5707963267948966))
+    return failValidation(error, "max_abs_grade_rad", max_abs_grade_rad, "in (0, pi/2) [rad]");
   return true;
 }
 
@@ -179,6 +181,10 @@ bool checkSample(const VehicleWearSetup& setup, const TrajectorySample& s, std::
   if (std::fabs(s.path_curvature_per_m) > setup.max_path_curvature_per_m)
     return fail("path_curvature_per_m", s.path_curvature_per_m,
                 "within +-max_path_curvature_per_m = " + text(setup.max_path_curvature_per_m) + " [1/m]");
+  if (!std::isfinite(s.grade_rad)) return fail("grade_rad", s.grade_rad, "finite [rad]");
+  if (std::fabs(s.grade_rad) > setup.max_abs_grade_rad)
+    return fail("grade_rad", s.grade_rad,
+                "within +-max_abs_grade_rad = " + text(setup.max_abs_grade_rad) + " [rad]");
   return true;
 }
 
@@ -261,7 +267,7 @@ void TrajectoryCostEvaluator::setTemperature(int wheel, double tread_temperature
 }
 
 void TrajectoryCostEvaluator::wheelStates(const TrajectorySample& sample, VehicleState* state) const {
-  vehicle_.evaluate({sample.speed_mps, sample.accel_mps2, sample.path_curvature_per_m}, state);
+  vehicle_.evaluate({sample.speed_mps, sample.accel_mps2, sample.path_curvature_per_m, sample.grade_rad}, state);
 }
 
 bool TrajectoryCostEvaluator::rates(const TrajectorySample& sample, WheelRates* rates, std::string* error) const {

@@ -165,6 +165,15 @@ double WearMap::nodeWearRate_kg_per_s(int wheel, std::size_t node) const {
 
 bool WearMap::rates(const TrajectorySample& sample, WheelRates* rates, std::string* error) const {
   const double v = sample.speed_mps;
+  if (sample.grade_rad != 0.0) {
+    if (error != nullptr) {
+      std::ostringstream s;
+      s.precision(10);
+      s << "grade_rad = " << sample.grade_rad << ": the map is for a flat road (evaluate this trajectory directly)";
+      *error = s.str();
+    }
+    return false;
+  }
   if (v > params_.speed_mps.back()) {
     if (error != nullptr) *error = outside("speed_mps", v, params_.speed_mps, "[m/s]");
     return false;

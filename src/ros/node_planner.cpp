@@ -245,15 +245,19 @@ void fillCost(const std::string& id, const TrajectoryCost& c, tread_wear::Trajec
 /// The samples of a trajectory message; false with *error when its arrays differ in length.
 bool samplesOf(const tread_wear::Trajectory& t, std::vector<TrajectorySample>* samples, std::string* error) {
   const std::size_t n = t.time_s.size();
-  if (t.speed_mps.size() != n || t.accel_mps2.size() != n || t.path_curvature_per_m.size() != n) {
+  const bool has_grade = !t.grade_rad.empty();
+  if (t.speed_mps.size() != n || t.accel_mps2.size() != n || t.path_curvature_per_m.size() != n ||
+      (has_grade && t.grade_rad.size() != n)) {
     *error = "arrays of unequal length: time_s " + std::to_string(n) + ", speed_mps " +
              std::to_string(t.speed_mps.size()) + ", accel_mps2 " + std::to_string(t.accel_mps2.size()) +
-             ", path_curvature_per_m " + std::to_string(t.path_curvature_per_m.size());
+             ", path_curvature_per_m " + std::to_string(t.path_curvature_per_m.size()) + ", grade_rad " +
+             std::to_string(t.grade_rad.size()) + " (0 = flat road)";
     return false;
   }
   samples->resize(n);
   for (std::size_t k = 0; k < n; ++k)
-    (*samples)[k] = {t.time_s[k], t.speed_mps[k], t.accel_mps2[k], t.path_curvature_per_m[k]};
+    (*samples)[k] = {t.time_s[k], t.speed_mps[k], t.accel_mps2[k], t.path_curvature_per_m[k],
+                     has_grade ? t.grade_rad[k] : 0.0};
   return true;
 }
 

@@ -1,6 +1,7 @@
 // tread_wear_trajectory_cost in-process (runTrajectoryCostCli): usage errors, the CSV reader's errors naming line
 // and column, a per-trajectory status naming the bad sample, a constant-state trajectory's cost against the wear
-// model called directly, the node's wheel file as the source of the tires, and --generate piped into --compare.
+// model called directly, the optional grade column, the node's wheel file as the source of the tires, and
+// --generate piped into --compare.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -109,11 +110,33 @@ TEST(TrajectoryCostCli, CsvErrorsNameTheLineAndColumn) {
   EXPECT_EQ(r.rc, 1);
   EXPECT_NE(r.err.find("line 2: column speed_mps: 'nan' is not a finite number"), std::string::npos) << r.err;
   EXPECT_TRUE(r.out.empty());
-  r = run(args, "trajectory_id,time_s,speed_mps,accel_mps2,curvature_per_m,grade_rad\na,0,1,0,0,0.1\n");
+  r = run(args, "trajectory_id,time_s,speed_mps,accel_mps2,curvature_per_m,grade\na,0,1,0,0,0.1\n");
   EXPECT_EQ(r.rc, 1);
-  EXPECT_NE(r.err.find("flat road"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("line 1: column grade: name it grade_rad"), std::string::npos) << r.err;
   r = run(args, "trajectory_id,time_s,speed_mps,accel_mps2\n");
   EXPECT_NE(r.err.find("line 1: missing column curvature_per_m"), std::string::npos) << r.err;
+}
+
+TEST(TrajectoryCostCli, GradeIsAnOptionalColumnThatTheMapRefuses) {
+  const std::string climb =
+      "trajectory_id,time_s,speed_mps,accel_mps2,curvature_per_m,grade_rad\nup,0,10,0,0,0.05\nup,1,10,0,0,0.05\n"
+      "level,0,10,0,0,0\nlevel,1,10,0,0,0\n";
+  const std::string level_only =
+      "trajectory_id,time_s,speed_mps,accel_mps2,curvature_per_m\nlevel,0,10,0,0\nlevel,1,10,0,0\n";
+  const std::vector<std::string> args = {"--vehicle", kVehicle, "--tire", kTire, "--preset", "fast", "-"};
+  const ToolRun direct = run(args, climb), without = run(args, level_only);
+  ASSERT_EQ(direct.rc, 0) << direct.err;
+  const auto table = rows(direct.out), reference = rows(without.out);
+  EXPECT_GT(cell(table, 1, "total_wear_kg"), cell(table, 2, "total_wear_kg"));  // climbing wears the driven tires
+  EXPECT_EQ(table[2], reference[1]);  // a zero grade column is the flat road
+  std::vector<std::string> map_args = args;
+  map_args.insert(map_args.end() - 1, {"--map", "--threads", "1"});
+  const ToolRun from_map = run(map_args, climb);
+  EXPECT_EQ(from_map.rc, 1);
+  const auto map_table = rows(from_map.out);
+  EXPECT_EQ(map_table[1][1], "outside_map");
+  EXPECT_NE(map_table[1].back().find("grade_rad = 0.05: the map is for a flat road"), std::string::npos);
+  EXPECT_EQ(map_table[2][1], "ok");
 }
 
 TEST(TrajectoryCostCli, TakesTheTiresOfTheNodesWheelFileAndRefusesOtherThanFourWheels) {

@@ -36,10 +36,10 @@ VehicleWearSetup passengerCar(Preset preset = Preset::kStandard) {
 struct DirectReference {
   std::array<double, kWheelCount> wear_kg_per_s{}, wear_kg_per_m{}, stick{};
 };
-DirectReference reference(const VehicleWearSetup& setup, double v, double a_x, double kappa) {
+DirectReference reference(const VehicleWearSetup& setup, double v, double a_x, double kappa, double grade = 0.0) {
   const VehicleModel vehicle(setup.vehicle);
   VehicleState state;
-  vehicle.evaluate({v, a_x, kappa}, &state);
+  vehicle.evaluate({v, a_x, kappa, grade}, &state);
   DirectReference r;
   for (int i = 0; i < kWheelCount; ++i) {
     const std::size_t w = static_cast<std::size_t>(i);
@@ -59,9 +59,10 @@ DirectReference reference(const VehicleWearSetup& setup, double v, double a_x, d
   return r;
 }
 
-std::vector<TrajectorySample> constantState(const std::vector<double>& times, double v, double a_x, double kappa) {
+std::vector<TrajectorySample> constantState(const std::vector<double>& times, double v, double a_x, double kappa,
+                                            double grade = 0.0) {
   std::vector<TrajectorySample> samples;
-  for (double t : times) samples.push_back({t, v, a_x, kappa});
+  for (double t : times) samples.push_back({t, v, a_x, kappa, grade});
   return samples;
 }
 
@@ -81,6 +82,21 @@ TEST(TrajectoryCost, ConstantStateCostsRateTimesDuration) {
     EXPECT_NEAR(cost.stick_fraction[w], ref.stick[w], kRoundingRel);
     EXPECT_NEAR(cost.stick_fraction[w] + cost.slide_fraction[w], 1.0, kRoundingRel);
   }
+}
+
+TEST(TrajectoryCost, UphillCostsTheWheelModelsOnTheGradeAndMoreThanTheFlatRoad) {
+  const VehicleWearSetup setup = passengerCar(Preset::kFast);
+  const TrajectoryCostEvaluator evaluator(setup);
+  const auto uphill = constantState({0.0, 1.0, 3.0}, 20.0, 0.0, 0.0, 0.06);
+  const auto flat = constantState({0.0, 1.0, 3.0}, 20.0, 0.0, 0.0);
+  const TrajectoryCost up = evaluator.evaluate(uphill.data(), uphill.size());
+  const TrajectoryCost level = evaluator.evaluate(flat.data(), flat.size());
+  ASSERT_TRUE(up.ok() && level.ok()) << up.message << level.message;
+  const DirectReference ref = reference(setup, 20.0, 0.0, 0.0, 0.06);
+  for (std::size_t w = 0; w < kWheelCount; ++w)
+    EXPECT_NEAR(up.wheel_wear_kg[w], ref.wear_kg_per_s[w] * 3.0, ref.wear_kg_per_s[w] * 3.0 * kRoundingRel);
+  // The front-driven car's front tires carry the climb's drive force.
+  EXPECT_GT(up.wheel_wear_kg[kFrontLeft], 1.5 * level.wheel_wear_kg[kFrontLeft]);
 }
 
 TEST(TrajectoryCost, PerDistanceOfStraightRollingEqualsTheWheelModels) {
@@ -183,6 +199,9 @@ TEST(TrajectoryCost, BadInputNamesTheSampleAndTheField) {
   bad = samples;
   bad[0].path_curvature_per_m = 1.0;  // a 1 m radius: no car turns that tight
   expectError(bad, 0, "path_curvature_per_m = 1: must be within +-max_path_curvature_per_m = 0.25");
+  bad = samples;
+  bad[2].grade_rad = 0.5;  // 55 %
+  expectError(bad, 2, "grade_rad = 0.5: must be within +-max_abs_grade_rad = 0.35");
 
   VehicleWearSetup broken = setup;
   broken.vehicle.mass_kg = -1.0;
@@ -260,14 +279,14 @@ TEST(WearMap, ScalesTheFirstSpeedNodeToStandstillAndRejectsSamplesOutside) {
   for (double r : rates.wear_kg_per_s) EXPECT_EQ(r, 0.0);
 
   const auto outside = [&](TrajectorySample s, const std::string& text) {
-    const TrajectorySample samples[] = {{0.0, 10.0, 0.0, 0.0}, {s.time_s, s.speed_mps, s.accel_mps2,
-                                                                  s.path_curvature_per_m}};
+    const TrajectorySample samples[] = {{0.0, 10.0, 0.0, 0.0}, s};
     const TrajectoryCost cost = map->evaluate(samples, 2);
     EXPECT_EQ(cost.status, CostStatus::kOutsideMap);
     EXPECT_EQ(cost.bad_sample, 1u);
     EXPECT_NE(cost.message.find("sample 1: " + text), std::string::npos) << cost.message;
   };
   outside({1.0, 21.0, 0.0, 0.0}, "speed_mps = 21: outside the map's axis [5, 20]");
+  outside({1.0, 10.0, 0.0, 0.0, 0.02}, "grade_rad = 0.02: the map is for a flat road");
   outside({1.0, 10.0, 2.5, 0.0}, "accel_mps2 = 2.5: outside the map's axis [-2, 2]");
   // At 10 m/s the reach is min(9, 0.25 x 100) = 9 m/s^2, half of it on this axis: 6 m/s^2 is beyond.
   outside({1.0, 10.0, 0.0, 0.06}, "lateral acceleration v^2 kappa = 6 [m/s^2]: outside the map's reach");

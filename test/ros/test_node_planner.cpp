@@ -145,18 +145,22 @@ TEST(NodePlanner, BadSamplesAndMalformedRequestsAreNamed) {
   tread_wear::Trajectory ragged = trajectory("ragged", kCurve);
   ragged.accel_mps2.pop_back();
   req.trajectories.push_back(ragged);
+  tread_wear::Trajectory ragged_grade = trajectory("ragged_grade", kCurve);
+  ragged_grade.grade_rad = {0.01};  // optional, but then one per sample
+  req.trajectories.push_back(ragged_grade);
   req.trajectories.push_back(trajectory("empty", {}));
   req.trajectories.push_back(trajectory("good", kCurve));
   tread_wear::EvaluateTrajectories::Response res;
   planner.evaluate(req, Preset::kFast, 0.0, &res);
   ASSERT_TRUE(res.success) << res.message;
-  ASSERT_EQ(res.costs.size(), 4u);
+  ASSERT_EQ(res.costs.size(), 5u);
   EXPECT_EQ(res.costs[0].status, tread_wear::TrajectoryWearCost::STATUS_BAD_INPUT);
   EXPECT_NE(res.costs[0].message.find("sample 2: speed_mps = nan: must be finite"), std::string::npos);
   EXPECT_EQ(res.costs[1].status, tread_wear::TrajectoryWearCost::STATUS_BAD_INPUT);
   EXPECT_NE(res.costs[1].message.find("arrays of unequal length"), std::string::npos) << res.costs[1].message;
-  EXPECT_NE(res.costs[2].message.find("empty trajectory"), std::string::npos);
-  EXPECT_EQ(res.costs[3].status, tread_wear::TrajectoryWearCost::STATUS_OK);
+  EXPECT_NE(res.costs[2].message.find("grade_rad 1 (0 = flat road)"), std::string::npos) << res.costs[2].message;
+  EXPECT_NE(res.costs[3].message.find("empty trajectory"), std::string::npos);
+  EXPECT_EQ(res.costs[4].status, tread_wear::TrajectoryWearCost::STATUS_OK);
 
   req.mode = "fastest";
   planner.evaluate(req, Preset::kFast, 0.0, &res);

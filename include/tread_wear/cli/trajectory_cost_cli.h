@@ -21,9 +21,9 @@ struct CandidateTrajectory {
 };
 
 /// Reads a trajectory CSV: a header with the columns trajectory_id, time_s, speed_mps, accel_mps2,
-/// curvature_per_m (any order, other columns are errors), one sample per row; the rows of a trajectory keep their
-/// file order, trajectories the order of their first row. false with *error naming the line and the column for a
-/// malformed cell (numbers must be finite) or a grade column (the vehicle model has no grade).
+/// curvature_per_m and optionally grade_rad (any order, other columns are errors), one sample per row; the rows of a
+/// trajectory keep their file order, trajectories the order of their first row. false with *error naming the line
+/// and the column for a malformed cell (numbers must be finite) or an unknown column.
 bool readTrajectoryCsv(std::istream& in, std::vector<CandidateTrajectory>* trajectories, std::string* error);
 
 /// tread_wear_trajectory_cost --vehicle FILE (--tire FILE | --wheels FILE) [--preset NAME] [--temperature C]

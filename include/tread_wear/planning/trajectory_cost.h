@@ -5,8 +5,9 @@
 /// tires' parameters, preset and tread temperature) -> wear per wheel and in total [kg], per distance [kg/m] and
 /// the time-weighted stick/slide fractions. The map (wear_map.h) evaluates the same cost from a precomputed grid.
 ///
-/// Per sample k (time t_k, CoG speed v_k, longitudinal acceleration a_x,k, CoG path curvature kappa_k):
-///   VehicleModel::evaluate({v, a_x, kappa})  -> per wheel load, slip angle, slip ratio, path curvature, speed
+/// Per sample k (time t_k, CoG speed v_k, longitudinal acceleration a_x,k, CoG path curvature kappa_k, optional
+/// road grade theta_k):
+///   VehicleModel::evaluate({v, a_x, kappa, theta})  -> per wheel load, slip angle, slip ratio, path curvature, speed
 ///   the wheel state goes through WheelInputs (the live topics' validation, InputLimits) and evaluateInputs()
 ///   (the one place that builds the model's operating point; zero load wears nothing) -> wdot_i [kg/s]
 /// Integration (trapezoid rule over the samples' own times, as WheelEstimator integrates live):
@@ -19,8 +20,9 @@
 ///   total    = sum_i wear_i;   wear per distance = total / distance [kg/m] (0 for a trajectory that does not move)
 /// The samples are taken as given: a_x need not be dv/dt of the samples (a planner's profile may not be exact).
 ///
-/// Assumptions and limits (those of VehicleModel, vehicle_model.h): flat road (no grade or banking: a grade column
-/// is not part of the input), quasi-steady (no transient tire lag, no pitch/roll dynamics), linear slip estimates.
+/// Assumptions and limits (those of VehicleModel, vehicle_model.h): a straight grade under the car (no banking),
+/// quasi-steady (no transient tire lag, no pitch/roll dynamics), linear slip estimates. The map (wear_map.h) is for
+/// a flat road only.
 /// |kappa| is bounded by VehicleWearSetup::max_path_curvature_per_m (a road car's tightest turn): the
 /// kinematics of the quasi-steady model leave their domain for turns tighter than the wheelbase allows.
 ///
@@ -47,6 +49,7 @@ struct TrajectorySample {
   double speed_mps = 0.0;             ///< v, CoG speed [m/s], >= 0
   double accel_mps2 = 0.0;            ///< a_x, longitudinal acceleration [m/s^2]
   double path_curvature_per_m = 0.0;  ///< kappa of the CoG path [1/m], > 0 left (ISO 8855)
+  double grade_rad = 0.0;             ///< theta, road grade [rad], > 0 uphill (0: flat road)
 };
 
 /// What a cost is evaluated for: the vehicle, the four tires (vehicle wheel order, vehicle_model.h) and how the
@@ -61,6 +64,8 @@ struct VehicleWearSetup {
   InputLimits limits;       ///< plausibility limits the wheel states pass, as the live topics do
   double max_path_curvature_per_m = 0.25;  ///< |kappa| bound of a sample [1/m], > 0 (0.25: 4 m radius, tighter
                                            ///< than a passenger car's ~5 m turning circle)
+  double max_abs_grade_rad = 0.35;  ///< |theta| bound of a sample [rad], in (0, pi/2) (0.35: 36 %, steeper than
+                                    ///< public roads)
 
   VehicleWearSetup();
   /// false with *error "<field> = <value>: must be <constraint>" for the first broken constraint.
@@ -115,7 +120,8 @@ struct WheelRates {
   std::array<double, kWheelCount> stick_fraction{};  ///< [-]
 };
 
-/// Checks one sample (finite fields, speed >= 0 and <= limits.max_speed_mps, |kappa| <= the bound); false with
+/// Checks one sample (finite fields, speed >= 0 and <= limits.max_speed_mps, |kappa| and |theta| within their
+/// bounds); false with
 /// *error "sample <index>: <field> = <value>: must be <constraint>".
 bool checkSample(const VehicleWearSetup& setup, const TrajectorySample& sample, std::size_t index,
                  std::string* error);

@@ -18,8 +18,8 @@
 /// per distance: the model's default wear w4 is per time and dominates at low speed.
 /// Below the first speed node v_0 (default: WearModel's low-speed threshold, 0.1 m/s) the rates are those of the
 /// node times v / v_0, the low-speed convention's linear fall to zero at standstill. A sample beyond the last speed
-/// node, outside the a_x axis or with |eta| beyond the lateral axis is an error (CostStatus::kOutsideMap) naming the
-/// axis: evaluate such a trajectory directly.
+/// node, outside the a_x axis, with |eta| beyond the lateral axis or on a grade (the map is for a flat road) is an
+/// error (CostStatus::kOutsideMap) naming the axis: evaluate such a trajectory directly.
 ///
 /// Error against the direct evaluation: measured, not assumed (bench/planner_bench.cpp, docs/planner.md).
 /// Validity: the map holds the setup it was built for (vehicle, tires, temperatures, preset) and its fingerprint
