@@ -8,7 +8,13 @@ if(benchmark_FOUND)
   target_link_libraries(${PROJECT_NAME}_bench ${PROJECT_NAME}_cli benchmark::benchmark)
   add_executable(${PROJECT_NAME}_accuracy bench/accuracy_main.cpp)
   target_link_libraries(${PROJECT_NAME}_accuracy ${PROJECT_NAME}_cli)
-  install(TARGETS ${PROJECT_NAME}_accuracy ${PROJECT_NAME}_bench RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+  # The planner's wear cost (docs/planner.md): map build, batch of 100 x 100 from the map and direct, map error. It
+  # reads the passenger car's files from $TREAD_WEAR_CONFIG_DIR, else from this source tree's config/.
+  add_executable(${PROJECT_NAME}_planner_bench bench/planner_bench.cpp)
+  target_link_libraries(${PROJECT_NAME}_planner_bench ${PROJECT_NAME}_cli benchmark::benchmark)
+  target_compile_definitions(${PROJECT_NAME}_planner_bench PRIVATE TREAD_WEAR_SHARE_DIR="${PROJECT_SOURCE_DIR}")
+  install(TARGETS ${PROJECT_NAME}_accuracy ${PROJECT_NAME}_bench ${PROJECT_NAME}_planner_bench
+          RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 else()
   message(STATUS "Google Benchmark not found: ${PROJECT_NAME}_bench and ${PROJECT_NAME}_accuracy are not built")
 endif()

@@ -21,12 +21,13 @@ tread_wear_module(reference MODULES model
                   PRIVATE SUNDIALS::cvode SUNDIALS::nvecserial SUNDIALS::sunlinsoldense SUNDIALS::sunmatrixdense)
 tread_wear_module(vehicle MODULES model)
 tread_wear_module(estimation MODULES model vehicle)
+tread_wear_module(planning MODULES model vehicle estimation)
 tread_wear_module(io MODULES model vehicle estimation PUBLIC nlohmann_json::nlohmann_json PRIVATE yaml-cpp)
 tread_wear_module(fitting MODULES model io PRIVATE Ceres::ceres)
 tread_wear_module(diagnosis MODULES model io fitting PRIVATE Boost::headers)
 tread_wear_module(report MODULES io fitting diagnosis PUBLIC nlohmann_json::nlohmann_json)
 tread_wear_module(studies MODULES model reference io)
-tread_wear_module(cli MODULES model reference vehicle io fitting diagnosis report studies)
+tread_wear_module(cli MODULES model reference vehicle planning io fitting diagnosis report studies)
 
 # The marcher's x step on SIMD packs of strips with glibc's libmvec vector exp/log: four strips per AVX2 + FMA
 # pack (src/model/brush_march_avx2.cpp, compiled for AVX2, chosen at run time on CPUs that have it), else two

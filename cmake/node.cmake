@@ -17,7 +17,7 @@ function(tread_wear_ros_module name)
   add_dependencies(${target} ${PROJECT_NAME}_generate_messages_cpp ${PROJECT_NAME}_gencfg)
 endfunction()
 
-tread_wear_ros_module(ros MODULES model estimation io)
+tread_wear_ros_module(ros MODULES model estimation planning io)
 # rosbag's own codecs, so that the bag check can decompress a chunk before rosbag parses it (checkBagRecords).
 find_package(BZip2 REQUIRED)
 find_package(roslz4 REQUIRED)

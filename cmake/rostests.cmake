@@ -23,3 +23,5 @@ add_rostest(test/ros/vehicle_inputs_no_tf.test DEPENDENCIES test_vehicle_inputs)
 add_rostest(test/ros/vehicle_inputs_time_jump.test DEPENDENCIES test_vehicle_inputs)
 tread_wear_add_gtest(test_vehicle_inputs_parts ${PROJECT_SOURCE_DIR}/test/ros/test_vehicle_inputs_parts.cpp
                      ${PROJECT_NAME}_ros)
+# The planner at the vehicle level (evaluate_trajectories, wear_map) without a master.
+tread_wear_add_gtest(test_node_planner ${PROJECT_SOURCE_DIR}/test/ros/test_node_planner.cpp ${PROJECT_NAME}_ros)

@@ -24,11 +24,19 @@ std::string nodeHelp() {
          "  out  wear_markers                     visualization_msgs/MarkerArray  contact patches, marker_rate_hz\n"
          "  out  /diagnostics                     diagnostic_msgs/DiagnosticArray  wheels, update loop, persistence\n"
          "  out  /tf_static                       tf2_msgs/TFMessage           base_frame -> wheels with position_m\n"
+         "  out  wear_map (latched)               tread_wear/PlannerWearMap    per-wheel wear map over (v, a_x, a_y) "
+         "for planners, rebuilt on a preset or tread temperature change\n"
          "\n"
          "Services:\n"
          "  evaluate_wear   tread_wear/EvaluateWear  wear and forces of hypothetical states of one wheel (planner)\n"
          "  reset_wheel     tread_wear/ResetWheel    tire change: zero a wheel's loss, record the new tire id\n"
-         "  ~set_parameters dynamic_reconfigure      update_rate_hz, budget_us, preset (checked as at start-up)\n";
+         "  evaluate_trajectories  tread_wear/EvaluateTrajectories  wear cost of candidate vehicle trajectories "
+         "(planner; mode map or direct; docs/planner.md)\n"
+         "  ~set_parameters dynamic_reconfigure      update_rate_hz, budget_us, preset (checked as at start-up)\n"
+         "\n"
+         "Planner keys (~planner/...; config/vehicle_wheels.yaml): vehicle_params [path] (empty = planner off),\n"
+         "wheel_names [4 names] = front_left front_right rear_left rear_right, build_map = true,\n"
+         "map_temperature_step_c [K] = 5, max_path_curvature_per_m [1/m] = 0.25, map_threads = 1\n";
 }
 
 }  // namespace tread_wear

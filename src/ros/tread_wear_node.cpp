@@ -79,6 +79,7 @@ bool TreadWearNode::initialize() {
         return true;
       });
 
+  startPlanner();
   diagnostics_ = std::make_unique<NodeDiagnostics>(wheels_, loop_status_, *persistence_, *reconfigure_);
   updater_ = std::make_unique<diagnostic_updater::Updater>(nh_, pnh_);
   diagnostics_->addTo(updater_.get());
@@ -114,6 +115,38 @@ bool TreadWearNode::initialize() {
   reconfigure_server_->setCallback([this](tread_wear::TreadWearConfig& c, uint32_t) { reconfigure(c); });
   ROS_INFO("tread_wear_node: %zu wheel(s), running at %.6g Hz", wheels_.size(), config_.update_rate_hz);
   return true;
+}
+
+void TreadWearNode::startPlanner() {
+  NodePlannerConfig planner_config;
+  std::string error;
+  if (!loadNodePlannerConfig(pnh_, config_.config_dir, &planner_config, &error)) {
+    ROS_ERROR("tread_wear_node: planner off: %s", error.c_str());  // the wear estimation runs on without it
+    planner_config.vehicle_params.clear();
+  }
+  map_publisher_ = nh_.advertise<tread_wear::PlannerWearMap>("wear_map", 1, /*latch=*/true);
+  planner_ = std::make_unique<NodePlanner>(
+      planner_config, wheels_, config_.model, [this](tread_wear::PlannerWearMap& msg) {
+        msg.header.stamp = ros::Time::now();  // on the map builder's thread, never the update loop's
+        msg.header.frame_id = config_.base_frame;
+        map_publisher_.publish(msg);
+        ROS_INFO("tread_wear_node: wear map %s (version %u, preset %s) built in %.3g s", msg.fingerprint.c_str(),
+                 msg.version, msg.preset.c_str(), msg.build_time_s);
+      });
+  if (!planner_->available())
+    ROS_WARN("tread_wear_node: evaluate_trajectories unavailable: %s", planner_->reason().c_str());
+  trajectories_service_ =
+      nh_.advertiseService<tread_wear::EvaluateTrajectories::Request, tread_wear::EvaluateTrajectories::Response>(
+          "evaluate_trajectories",
+          [this](tread_wear::EvaluateTrajectories::Request& req, tread_wear::EvaluateTrajectories::Response& res) {
+            planner_->evaluate(req, loop_status_.configuredPreset(), ros::Time::now().toSec(), &res);
+            return true;
+          });
+  // Preset (dynamic_reconfigure) and tread temperatures are checked once a second; a change rebuilds the map.
+  planner_->refresh(loop_status_.configuredPreset(), ros::Time::now().toSec());
+  planner_timer_ = nh_.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) {
+    planner_->refresh(loop_status_.configuredPreset(), ros::Time::now().toSec());
+  });
 }
 
 void TreadWearNode::subscribeInputs(WheelPipeline* w) {
@@ -227,6 +260,8 @@ void TreadWearNode::shutdown() {
   save_timer_.stop();
   diagnostics_timer_.stop();
   marker_timer_.stop();
+  planner_timer_.stop();
+  if (planner_) planner_->stop();
   if (persistence_) persistence_->save(wheels_, "shutdown");
   if (vehicle_publisher_) vehicle_publisher_->stop();
   for (auto& p : wheel_publishers_) p->stop();

@@ -99,17 +99,20 @@ void VehicleModel::evaluate(const VehicleMotion& motion, VehicleState* state) co
   const double kappa = motion.path_curvature_per_m;
   const double a_y = v * v * kappa;
   const double rolling_ramp = std::min(1.0, v / kRollingRampSpeed_mps);
+  // Weight normal to and along the road (grade 0: m g and 0 exactly, so the flat-road results are unchanged).
+  const double normal_weight = m * g * std::cos(motion.grade_rad);
+  const double grade_force = m * g * std::sin(motion.grade_rad);
 
   const double f_aero = 0.5 * p.air_density_kg_per_m3 * p.drag_coefficient * p.frontal_area_m2 * v * v;
-  const double f_roll = p.rolling_resistance_coefficient * m * g * rolling_ramp;
-  const double demand = m * motion.accel_mps2 + f_aero + f_roll;
+  const double f_roll = p.rolling_resistance_coefficient * m * g * std::cos(motion.grade_rad) * rolling_ramp;
+  const double demand = m * motion.accel_mps2 + f_aero + f_roll + grade_force;
   state->lateral_accel_mps2 = a_y;
   state->force_demand_n = demand;
 
   // Loads: static + longitudinal transfer per axle, then lateral transfer within each axle.
-  const double dfz_long = (m * motion.accel_mps2 + f_aero) * h / L;
-  const double fz_front = m * g * l_r / L - dfz_long;
-  const double fz_rear = m * g * l_f / L + dfz_long;
+  const double dfz_long = (m * motion.accel_mps2 + f_aero + grade_force) * h / L;
+  const double fz_front = normal_weight * l_r / L - dfz_long;
+  const double fz_rear = normal_weight * l_f / L + dfz_long;
   const double dfz_front = m * a_y * h * p.front_roll_stiffness_share / p.track_front_m;
   const double dfz_rear = m * a_y * h * (1.0 - p.front_roll_stiffness_share) / p.track_rear_m;
   std::array<double, kWheelCount> fz = {0.5 * fz_front - dfz_front, 0.5 * fz_front + dfz_front,

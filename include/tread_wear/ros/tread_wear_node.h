@@ -7,6 +7,7 @@
 ///   configuration  node_config.h (parameter server -> io/wheel_config.h, shared with the replay)
 ///   per wheel      wheel_pipeline.h (inputs, live model and estimator, planner model, message fill)
 ///   persistence    node_persistence.h;  services  node_services.h;  diagnostics  node_diagnostics.h
+///   planner        node_planner.h (evaluate_trajectories, wear_map; its map builder thread)
 ///   markers        wear_markers.h;      reconfigure  node_reconfigure.h;  publishing  realtime_publisher.h
 ///
 /// Threads:
@@ -34,6 +35,7 @@
 #include "tread_wear/io/wheel_config.h"
 #include "tread_wear/ros/loop_status.h"
 #include "tread_wear/ros/node_diagnostics.h"
+#include "tread_wear/ros/node_planner.h"
 #include "tread_wear/ros/node_persistence.h"
 #include "tread_wear/ros/node_reconfigure.h"
 #include "tread_wear/ros/realtime_publisher.h"
@@ -59,6 +61,7 @@ class TreadWearNode {
   void publishMarkers(const ros::TimerEvent& event);
   void reconfigure(tread_wear::TreadWearConfig& config);
   void broadcastWheelFrames();
+  void startPlanner();
 
   ros::NodeHandle nh_, pnh_;
   NodeConfig config_;
@@ -86,6 +89,11 @@ class TreadWearNode {
   boost::recursive_mutex reconfigure_mutex_;  // dynamic_reconfigure::Server requires this type; outlives the server
   std::unique_ptr<dynamic_reconfigure::Server<tread_wear::TreadWearConfig>> reconfigure_server_;
   std::unique_ptr<tf2_ros::StaticTransformBroadcaster> tf_broadcaster_;
+  // Planner at the vehicle level (node_planner.h): evaluate_trajectories and the latched wear_map.
+  std::unique_ptr<NodePlanner> planner_;
+  ros::ServiceServer trajectories_service_;
+  ros::Publisher map_publisher_;
+  ros::WallTimer planner_timer_;
   std::atomic<bool> shut_down_{false};
 };
 

@@ -3,12 +3,16 @@
 /// Quasi-steady four-wheel vehicle model: from the vehicle's speed, longitudinal acceleration and path
 /// curvature to each wheel's load, slip angle, slip ratio, speed and path curvature (the node's inputs).
 ///
-/// Model (flat road, rigid body, quasi-steady: no pitch/roll/yaw dynamics, no suspension kinematics):
+/// Model (rigid body on a straight grade theta, quasi-steady: no pitch/roll/yaw dynamics, no suspension kinematics):
 ///   lateral acceleration   a_y = v^2 kappa,  yaw rate r = v kappa  (kappa of the CoG path, > 0 left)
-///   driving resistances    F_aero = rho/2 c_d A v^2,  F_roll = f_r m g ramp(v)  (ramp = min(1, v/0.5 m/s):
+///   grade                  theta > 0 uphill: the weight's component m g sin(theta) along the road acts at the CoG
+///                          like an inertial force, m g cos(theta) presses the wheels on the road (theta = 0: flat)
+///   driving resistances    F_aero = rho/2 c_d A v^2,  F_roll = f_r m g cos(theta) ramp(v)  (ramp = min(1, v/0.5 m/s):
 ///                          no rolling resistance at standstill)
-///   force demand           F = m a_x + F_aero + F_roll (> 0 drive torque, < 0 brake torque)
-///   longitudinal transfer  dFz_x = (m a_x + F_aero) h / L  (drag taken at CoG height; front loses it)
+///   force demand           F = m a_x + F_aero + F_roll + m g sin(theta) (> 0 drive torque, < 0 brake torque)
+///   axle loads             m g cos(theta) l_r / L - dFz_x (front),  m g cos(theta) l_f / L + dFz_x (rear)
+///   longitudinal transfer  dFz_x = (m a_x + F_aero + m g sin(theta)) h / L  (drag and grade force at CoG height;
+///                          front loses it)
 ///   lateral transfer       dFz_f = m a_y h lambda_f / t_f,  dFz_r = m a_y h (1 - lambda_f) / t_r
 ///                          (roll-stiffness share lambda_f, no roll-centre heights; outer wheels gain it)
 ///   axle side forces       Fy_f = m a_y l_r / L,  Fy_r = m a_y l_f / L  (steady-state single track)
@@ -24,7 +28,7 @@
 ///                          u = Fx_i/(c_kappa Fz_i), saturated at |u| <= 0.5 (far beyond normal driving).
 /// Symbols: m mass, g gravity, L wheelbase, l_f/l_r CoG to front/rear axle, h CoG height, t_f/t_r tracks.
 /// Sign conventions: ISO 8855 (x forward, y left, z up), as operating_point.h.
-/// Limits: no aerodynamic lift, no grade or banking, no combined-slip coupling in the slip estimates, no
+/// Limits: no aerodynamic lift, no banking, no change of grade along the wheelbase, no combined-slip coupling in the slip estimates, no
 /// transient tire lag; slip estimates are linear, the brush model (WearModel) then gives the actual forces.
 
 #include <array>
@@ -73,6 +77,7 @@ struct VehicleMotion {
   double speed_mps = 0.0;             ///< v, CoG speed [m/s], >= 0
   double accel_mps2 = 0.0;            ///< a_x = dv/dt [m/s^2]
   double path_curvature_per_m = 0.0;  ///< kappa of the CoG path [1/m], > 0 left
+  double grade_rad = 0.0;             ///< theta, road grade [rad], > 0 uphill, |theta| < pi/2 (0: flat road)
 };
 
 /// One wheel's inputs for the wear model, plus the force demands they were derived from.
@@ -89,7 +94,7 @@ struct WheelState {
 struct VehicleState {
   std::array<WheelState, kWheelCount> wheels;
   double lateral_accel_mps2 = 0.0;   ///< a_y [m/s^2]
-  double force_demand_n = 0.0;       ///< F = m a_x + F_aero + F_roll [N]
+  double force_demand_n = 0.0;       ///< F = m a_x + F_aero + F_roll + m g sin(theta) [N]
   double sideslip_rad = 0.0;         ///< beta, CoG velocity direction relative to the body [rad]
   double steer_angle_rad = 0.0;      ///< mean front steer angle [rad]
 };
