@@ -170,6 +170,7 @@ void WheelEstimator::restore(const WheelAccumulators& accumulators) {
   output_.accumulated_loss_kg = accumulators.accumulated_loss_kg;
   output_.distance_m = accumulators.distance_m;
   prev_evaluated_ = false;
+  prev_cause_ = WheelStatus::kNoInput;
   updateDepth();
 }
 
@@ -177,6 +178,12 @@ void WheelEstimator::updateDepth() {
   output_.tread_depth_loss_m = output_.accumulated_loss_kg / mass_per_depth_kg_per_m_;
   const double remaining = material_.tread_depth_m - output_.tread_depth_loss_m;
   output_.remaining_tread_depth_m = remaining > 0.0 ? remaining : 0.0;
+}
+
+void WheelEstimator::loseInterval(double dt, WheelStatus cause) {
+  if (!(dt > 0.0)) return;  // a backward jump has no length to lose
+  unaccounted_s_ += dt;
+  unaccounted_by_cause_s_[static_cast<int>(cause)] += dt;
 }
 
 const WheelOutput& WheelEstimator::step(double now_s, const WheelInputs& inputs, const WearModel& model,
@@ -222,9 +229,10 @@ const WheelOutput& WheelEstimator::step(double now_s, const WheelInputs& inputs,
   if (input_status == WheelStatus::kStaleInput) ++stale_steps_;
 
   if (input_status != WheelStatus::kOk) {
-    if (dt > 0.0) unaccounted_s_ += dt;
-    prev_evaluated_ = false;
     output_.status = jumped ? WheelStatus::kTimeJump : input_status;
+    loseInterval(dt, output_.status);
+    prev_evaluated_ = false;
+    prev_cause_ = input_status;
     return output_;
   }
 
@@ -233,8 +241,9 @@ const WheelOutput& WheelEstimator::step(double now_s, const WheelInputs& inputs,
   const EvalStatus es = evaluateInputs(model, inputs, now_s, params_.stale_timeout_s, &output_.result, fields);
   if (es == EvalStatus::kInvalidInput) {
     // Unreachable with validated inputs unless limits exceed the model's domain; never integrate it.
-    if (dt > 0.0) unaccounted_s_ += dt;
+    loseInterval(dt, jumped ? WheelStatus::kTimeJump : WheelStatus::kInvalidInput);
     prev_evaluated_ = false;
+    prev_cause_ = WheelStatus::kInvalidInput;
     output_.status = WheelStatus::kInvalidInput;
     return output_;
   }
@@ -252,10 +261,11 @@ const WheelOutput& WheelEstimator::step(double now_s, const WheelInputs& inputs,
       output_.accumulated_loss_kg += 0.5 * (prev_wear_kg_per_s_ + wear_kg_per_s) * dt;
       output_.distance_m += 0.5 * (prev_speed_mps_ + speed) * dt;
       output_.integrated = true;
+      integrated_s_ += dt;
       updateDepth();
     }
   }
-  if (!output_.integrated && dt > 0.0) unaccounted_s_ += dt;
+  if (!output_.integrated) loseInterval(dt, jumped ? WheelStatus::kTimeJump : prev_cause_);
   prev_evaluated_ = true;
   prev_wear_kg_per_s_ = wear_kg_per_s;
   prev_speed_mps_ = speed;

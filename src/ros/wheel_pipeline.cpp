@@ -196,6 +196,9 @@ WheelSnapshot WheelPipeline::snapshot() const {
   s.stale_steps = estimator_.staleSteps();
   s.evaluations = estimator_.evaluations();
   s.unaccounted_time_s = estimator_.unaccountedTime_s();
+  for (int c = 0; c < kWheelStatusCount; ++c)
+    s.unaccounted_by_cause_s[c] = estimator_.unaccountedTime_s(static_cast<WheelStatus>(c));
+  s.integrated_time_s = estimator_.integratedTime_s();
   return s;
 }
 

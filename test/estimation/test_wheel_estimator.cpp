@@ -160,6 +160,37 @@ TEST_F(EstimatorTest, StaleInputIsNotUsedAndTheGapIsUnaccounted) {
   feed(&in_, 0.9);
   EXPECT_TRUE(est_.step(0.9, in_, model_).integrated);
   EXPECT_NEAR(est_.unaccountedTime_s(), 0.7, 1e-12);  // (0.1, 0.8]
+  // All of it to the stale input, (0.7, 0.8] included: the step at 0.7 s left no usable interval start.
+  EXPECT_NEAR(est_.unaccountedTime_s(WheelStatus::kStaleInput), 0.7, 1e-12);
+  EXPECT_NEAR(est_.integratedTime_s(), 0.2, 1e-12);  // (0, 0.1] and (0.8, 0.9]
+}
+
+TEST_F(EstimatorTest, EveryElapsedSecondIsEitherIntegratedOrLostToItsCause) {
+  // 0 to 1 s fresh; 1.0 to 1.3 s invalid load; fresh again; a 5 s forward jump; 0.8 s without a new sample.
+  double t = 0.0;
+  for (; t < 1.0 - 1e-9; t += 0.1) {
+    feed(&in_, t);
+    est_.step(t, in_, model_);
+  }
+  in_.setLoad(1.0, kNaN);
+  for (; t < 1.3 - 1e-9; t += 0.1) est_.step(t, in_, model_);
+  for (; t < 2.0 - 1e-9; t += 0.1) {
+    feed(&in_, t);
+    est_.step(t, in_, model_);
+  }
+  feed(&in_, 7.0);
+  EXPECT_EQ(est_.step(7.0, in_, model_).status, WheelStatus::kTimeJump);
+  feed(&in_, 7.1);
+  est_.step(7.1, in_, model_);
+  EXPECT_EQ(est_.step(7.9, in_, model_).status, WheelStatus::kStaleInput);
+  // Invalid from the step at 1.0 s to the first fresh one at 1.3 s, plus the interval that step closes: 0.4 s.
+  EXPECT_NEAR(est_.unaccountedTime_s(WheelStatus::kInvalidInput), 0.4, 1e-9);
+  EXPECT_NEAR(est_.unaccountedTime_s(WheelStatus::kTimeJump), 7.0 - 1.9, 1e-9);
+  EXPECT_NEAR(est_.unaccountedTime_s(WheelStatus::kStaleInput), 0.8, 1e-9);
+  EXPECT_EQ(est_.unaccountedTime_s(WheelStatus::kNoInput), 0.0);
+  EXPECT_EQ(est_.unaccountedTime_s(WheelStatus::kOk), 0.0);
+  EXPECT_NEAR(est_.unaccountedTime_s(), 0.4 + 5.1 + 0.8, 1e-9);
+  EXPECT_NEAR(est_.integratedTime_s() + est_.unaccountedTime_s(), 7.9, 1e-9);
 }
 
 TEST_F(EstimatorTest, InvalidInputNeverReachesTheModel) {

@@ -16,7 +16,9 @@
 ///   distance += 0.5 (V_prev + V_now) dt
 /// Only intervals whose both ends were evaluated from fresh, valid inputs are integrated. An interval that
 /// starts or ends without usable inputs (stale, invalid, missing) or spans a time jump is not integrated; its
-/// length is added to unaccountedTime_s() so a user sees how much of the drive the estimate does not cover.
+/// length is added to unaccountedTime_s() so a user sees how much of the drive the estimate does not cover, and
+/// to unaccountedTime_s(cause) under the reason the interval was lost; integratedTime_s() is the rest, so a reader
+/// that samples both (the node's diagnostics) knows the share lost between two of its samples.
 /// The accumulated loss therefore never decreases and never absorbs a wrong time step.
 ///
 /// Time jumps: dt < 0 (a looping bag, a simulation time reset) or dt > max_step_s (a pause, a clock jump)
@@ -134,6 +136,7 @@ enum class WheelStatus : std::uint8_t {
   kInvalidInput = 4,  ///< the latest sample of a required input was rejected
   kTimeJump = 5       ///< the clock jumped; integration restarts at this step
 };
+constexpr int kWheelStatusCount = 6;
 const char* wheelStatusName(WheelStatus status);
 
 /// What one step produced. Fields of the wear result are those of the last evaluation (zero before any).
@@ -178,9 +181,15 @@ class WheelEstimator {
   std::uint64_t staleSteps() const { return stale_steps_; }        ///< steps with a stale input [-]
   std::uint64_t evaluations() const { return evaluations_; }       ///< model evaluations [-]
   double unaccountedTime_s() const { return unaccounted_s_; }      ///< elapsed time not integrated [s]
+  /// Elapsed time not integrated because of `cause` [s]: kNoInput, kStaleInput, kInvalidInput or kTimeJump (an
+  /// interval that ends at a usable step after an unusable one is lost to the cause of the unusable one; after a
+  /// restore() or reset(), to kNoInput). Zero for kOk and kLowSpeed; the four sum to unaccountedTime_s().
+  double unaccountedTime_s(WheelStatus cause) const { return unaccounted_by_cause_s_[static_cast<int>(cause)]; }
+  double integratedTime_s() const { return integrated_s_; }        ///< elapsed time integrated [s]
 
  private:
   void updateDepth();
+  void loseInterval(double dt, WheelStatus cause);
 
   WheelEstimatorParams params_;
   MaterialParams material_;
@@ -189,9 +198,11 @@ class WheelEstimator {
   bool have_time_ = false;
   double last_time_s_ = 0.0;
   bool prev_evaluated_ = false;  ///< the previous step evaluated from valid inputs (interval start usable)
+  WheelStatus prev_cause_ = WheelStatus::kNoInput;  ///< why the previous step was unusable (when it was)
   double prev_wear_kg_per_s_ = 0.0, prev_speed_mps_ = 0.0;
   std::uint64_t backward_jumps_ = 0, forward_jumps_ = 0, stale_steps_ = 0, evaluations_ = 0;
-  double unaccounted_s_ = 0.0;
+  double unaccounted_s_ = 0.0, integrated_s_ = 0.0;
+  std::array<double, kWheelStatusCount> unaccounted_by_cause_s_{};
 };
 
 /// The operating point of a wheel's inputs at time now_s [s]: load, speed and slips as they are; the tread

@@ -11,6 +11,7 @@
 ///   planner mutex  concurrent evaluate_wear calls on the planner model.
 /// step() and fillMessage() are the loop's: no allocation, logging or I/O (tire ids fit preallocated strings).
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -42,6 +43,8 @@ struct WheelSnapshot {
   std::string tire_id;
   std::uint64_t backward_jumps = 0, forward_jumps = 0, stale_steps = 0, evaluations = 0;
   double unaccounted_time_s = 0.0;  ///< elapsed time not integrated [s]
+  std::array<double, kWheelStatusCount> unaccounted_by_cause_s{};  ///< the same by WheelStatus cause [s]
+  double integrated_time_s = 0.0;   ///< elapsed time integrated [s]
 };
 
 class WheelPipeline {
