@@ -1,5 +1,6 @@
 #include "tread_wear/estimation/wheel_estimator.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -97,7 +98,9 @@ InputFault InputLimits::checkTemperature(double temperature_c) const {
 
 InputFault WheelInputs::record(InputKind kind, double t_s, InputFault fault) {
   Sample& s = samples_[static_cast<int>(kind)];
+  if (s.received > 0 && t_s - s.received_s > s.longest_gap_s) s.longest_gap_s = t_s - s.received_s;
   ++s.received;
+  s.received_s = t_s;
   if (fault != InputFault::kNone) {
     ++s.rejected;
     ++fault_counts_[static_cast<int>(fault)];
@@ -136,6 +139,10 @@ InputFault WheelInputs::setTemperature(double t_s, double temperature_c) {
   const InputFault fault = limits_.checkTemperature(temperature_c);
   if (fault == InputFault::kNone) temperature_c_ = temperature_c;
   return record(InputKind::kTemperature, t_s, fault);
+}
+
+void WheelInputs::clearGaps() {
+  for (Sample& s : samples_) s.longest_gap_s = 0.0;
 }
 
 std::uint64_t WheelInputs::totalRejected() const {
@@ -180,6 +187,17 @@ void WheelEstimator::updateDepth() {
   output_.remaining_tread_depth_m = remaining > 0.0 ? remaining : 0.0;
 }
 
+namespace {
+
+double longestRequiredGap_s(const WheelInputs& inputs) {
+  double gap_s = 0.0;
+  for (InputKind kind : {InputKind::kLoad, InputKind::kSlip, InputKind::kSpeed})
+    gap_s = std::max(gap_s, inputs.sample(kind).longest_gap_s);
+  return gap_s;
+}
+
+}  // namespace
+
 void WheelEstimator::loseInterval(double dt, WheelStatus cause) {
   if (!(dt > 0.0)) return;  // a backward jump has no length to lose
   unaccounted_s_ += dt;
@@ -187,7 +205,7 @@ void WheelEstimator::loseInterval(double dt, WheelStatus cause) {
 }
 
 const WheelOutput& WheelEstimator::step(double now_s, const WheelInputs& inputs, const WearModel& model,
-                                        PatchFields* fields) {
+                                        PatchFields* fields, JumpRule jump_rule) {
   output_.evaluated = false;
   output_.integrated = false;
 
@@ -199,7 +217,8 @@ const WheelOutput& WheelEstimator::step(double now_s, const WheelInputs& inputs,
     if (dt < 0.0) {
       ++backward_jumps_;
       jumped = true;
-    } else if (dt > params_.max_step_s) {
+    } else if (jump_rule == JumpRule::kStepLength ? dt > params_.max_step_s
+                                                  : longestRequiredGap_s(inputs) > params_.max_step_s) {
       ++forward_jumps_;
       jumped = true;
     }

@@ -4,6 +4,7 @@
 #include <visualization_msgs/MarkerArray.h>
 
 #include <chrono>
+#include <cstdint>
 
 #include "tread_wear/TreadTemperature.h"
 #include "tread_wear/WheelLoad.h"
@@ -118,28 +119,36 @@ bool TreadWearNode::initialize() {
 
 void TreadWearNode::subscribeInputs(WheelPipeline* w) {
   const std::string& name = w->config().name;
-  // Inputs are validated and counted on arrival, stamped with the node's clock (sim time under replay).
+  // Inputs are validated and counted on arrival, stamped with the node's clock; under simulated time with their own
+  // header stamp (when set), which the wheel's steps then follow (WheelPipeline::setInputTime, docs/node.md).
+  w->setInputTime(ros::Time::isSimTime());
+  // Live, a backlog would be stamped late: keep only the newest few. Stamped samples of a fast replay arrive in
+  // bursts: keep them all, since a dropped second of one input is a gap the wheel cannot integrate.
+  const std::uint32_t queue_size = ros::Time::isSimTime() ? 1000 : 10;
+  auto arrival_s = [](const std_msgs::Header& header) {
+    return ros::Time::isSimTime() && !header.stamp.isZero() ? header.stamp.toSec() : ros::Time::now().toSec();
+  };
   auto warn = [name](InputKind kind, InputFault fault) {
     if (fault != InputFault::kNone)
       ROS_WARN_THROTTLE(5.0, "wheel %s: rejected %s input (%s); the wheel is not evaluated until a valid one arrives",
                         name.c_str(), inputKindName(kind), inputFaultName(fault));
   };
   input_subscribers_.push_back(nh_.subscribe<tread_wear::WheelLoad>(
-      w->config().load_topic, 10, [w, warn](const tread_wear::WheelLoad::ConstPtr& m) {
-        warn(InputKind::kLoad, w->setLoad(ros::Time::now().toSec(), m->load_n));
+      w->config().load_topic, queue_size, [w, warn, arrival_s](const tread_wear::WheelLoad::ConstPtr& m) {
+        warn(InputKind::kLoad, w->setLoad(arrival_s(m->header), m->load_n));
       }));
   input_subscribers_.push_back(nh_.subscribe<tread_wear::WheelSlip>(
-      w->config().slip_topic, 10, [w, warn](const tread_wear::WheelSlip::ConstPtr& m) {
+      w->config().slip_topic, queue_size, [w, warn, arrival_s](const tread_wear::WheelSlip::ConstPtr& m) {
         warn(InputKind::kSlip,
-             w->setSlip(ros::Time::now().toSec(), m->slip_angle_rad, m->slip_ratio, m->path_curvature_per_m));
+             w->setSlip(arrival_s(m->header), m->slip_angle_rad, m->slip_ratio, m->path_curvature_per_m));
       }));
   input_subscribers_.push_back(nh_.subscribe<tread_wear::WheelSpeed>(
-      w->config().speed_topic, 10, [w, warn](const tread_wear::WheelSpeed::ConstPtr& m) {
-        warn(InputKind::kSpeed, w->setSpeed(ros::Time::now().toSec(), m->speed_mps));
+      w->config().speed_topic, queue_size, [w, warn, arrival_s](const tread_wear::WheelSpeed::ConstPtr& m) {
+        warn(InputKind::kSpeed, w->setSpeed(arrival_s(m->header), m->speed_mps));
       }));
   input_subscribers_.push_back(nh_.subscribe<tread_wear::TreadTemperature>(
-      w->config().temperature_topic, 10, [w, warn](const tread_wear::TreadTemperature::ConstPtr& m) {
-        warn(InputKind::kTemperature, w->setTemperature(ros::Time::now().toSec(), m->temperature_c));
+      w->config().temperature_topic, queue_size, [w, warn, arrival_s](const tread_wear::TreadTemperature::ConstPtr& m) {
+        warn(InputKind::kTemperature, w->setTemperature(arrival_s(m->header), m->temperature_c));
       }));
 }
 

@@ -1,5 +1,6 @@
 #include "tread_wear/ros/wheel_pipeline.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -97,7 +98,23 @@ const WheelOutput& WheelPipeline::step(double now_s, Preset preset, double budge
   {
     std::lock_guard<std::mutex> lock(input_mutex_);
     loop_inputs_ = inputs_;
+    if (input_time_) inputs_.clearGaps();
   }
+  if (input_time_) {
+    bool any = false;
+    double latest_s = 0.0;
+    for (InputKind kind : {InputKind::kLoad, InputKind::kSlip, InputKind::kSpeed}) {
+      const WheelInputs::Sample& sample = loop_inputs_.sample(kind);
+      if (sample.received == 0) continue;
+      latest_s = any ? std::max(latest_s, sample.received_s) : sample.received_s;
+      any = true;
+    }
+    if (any) now_s = latest_s;
+    // No new sample since the last step: nothing to evaluate or integrate (the bag paused or ended).
+    if (stepped_ && now_s == last_step_s_) return loop_output_;
+  }
+  stepped_ = true;
+  last_step_s_ = now_s;
   // Live reconfiguration: plain stores in the model. Under a budget the model picks the finest preset whose
   // measured time fits (wear_model.h).
   if (model_->wantedPreset() != preset) model_->setPreset(preset);
@@ -106,7 +123,8 @@ const WheelOutput& WheelPipeline::step(double now_s, Preset preset, double budge
   {
     std::lock_guard<std::mutex> lock(state_mutex_);
     const double t0 = steadyNow_s();
-    loop_output_ = estimator_.step(now_s, loop_inputs_, *model_);
+    loop_output_ = estimator_.step(now_s, loop_inputs_, *model_, nullptr,
+                                   input_time_ ? JumpRule::kInputGap : JumpRule::kStepLength);
     eval_us = 1e6 * (steadyNow_s() - t0);
     step_inputs_ = loop_inputs_;
     step_time_s_ = now_s;

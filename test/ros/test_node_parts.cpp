@@ -271,6 +271,32 @@ TEST(NodeConfig, TheSlowestAcceptedRateIntegratesALateStep) {
 // ---------------------------------------------------------------------------------------------------------
 // Per-wheel pipeline.
 
+TEST(WheelPipeline, InInputTimeItStepsAtTheInputsStampsAndOnlyWhenTheyAdvance) {
+  const NodeConfig c = twoWheels();  // stale_timeout_s 0.3 s, max_step_s 0.6 s
+  WheelPipeline w(c.wheels[0], loadTireParams(kTireFile), c);
+  w.setInputTime(true);
+  // Before any input: at the node clock, waiting.
+  EXPECT_EQ(w.step(5.0, Preset::kFast, 0.0, 1e9).status, WheelStatus::kNoInput);
+  // Inputs stamped 10.0 to 12.0 s every 20 ms, the node stepping every 0.5 s of inputs at a clock far behind them
+  // (a clock published coarsely): every interval integrated, nothing stale, no jump.
+  for (int k = 500; k <= 600; ++k) {
+    feed(&w, 0.02 * k);
+    if (k % 25 == 0) w.step(1.0, Preset::kFast, 0.0, 1e9);
+  }
+  WheelSnapshot s = w.snapshot();
+  EXPECT_DOUBLE_EQ(s.step_time_s, 12.0);
+  EXPECT_EQ(s.stale_steps, 0u);
+  EXPECT_EQ(s.forward_jumps, 0u);
+  EXPECT_NEAR(s.integrated_time_s, 2.0, 1e-9);
+  EXPECT_NEAR(s.unaccounted_time_s, 5.0, 1e-9) << "the start, from the clock at 5 s to the first input at 10 s";
+  // No new sample: the step is skipped (no evaluation, nothing integrated or lost).
+  const std::uint64_t evaluations = s.evaluations;
+  w.step(2.0, Preset::kFast, 0.0, 1e9);
+  s = w.snapshot();
+  EXPECT_EQ(s.evaluations, evaluations);
+  EXPECT_NEAR(s.integrated_time_s + s.unaccounted_time_s, 7.0, 1e-9);
+}
+
 TEST(WheelPipeline, TheOperatingPointKeepsAFreshTreadTemperature) {
   const NodeConfig c = twoWheels();
   WheelInputs in(c.estimator.limits);

@@ -54,8 +54,8 @@ class NodeDiagnostics {
     double integrated_s = 0.0, unintegrated_s = 0.0;
     double fault_s = 0.0;  ///< unintegrated for stale or invalid input or a time jump (not for no input)
     std::array<double, kWheelStatusCount> by_cause_s{};
-    double faultShare() const;           ///< fault_s over the interval's elapsed time [-]
-    std::string describe() const;        ///< e.g. "0.520 s of 1.000 s not integrated (stale_input 0.520 s)"
+    double faultShare() const;     ///< fault_s over the interval's elapsed time [-]
+    std::string describe() const;  ///< e.g. "0.520 s of 1.000 s not integrated (stale_input 0.520 s)"
   };
   /// The interval from *previous to s; *previous becomes s's counters.
   static IntervalTime takeInterval(const WheelSnapshot& s, TimeCounters* previous);

@@ -65,9 +65,13 @@ class WheelPipeline {
   InputFault setSpeed(double t_s, double speed_mps);
   InputFault setTemperature(double t_s, double temperature_c);
 
-  /// Loop side: one step at now_s [s] with the inputs as they are, the live model set to `preset` and budget_s [s]
-  /// first; an evaluation longer than deadline_us [us] counts as an overrun. The result stays valid until the
-  /// next step (loop thread only).
+  /// Input time (the node under simulated time): a step is taken at the latest arrival time among the required
+  /// inputs' samples (their header stamps, node.cpp) instead of at now_s, and skipped while that time stands still;
+  /// before any required input arrives, at now_s. Off: every step at now_s. Set before the loop starts.
+  void setInputTime(bool on) { input_time_ = on; }
+  /// Loop side: one step at now_s [s] (or at the input time, above) with the inputs as they are, the live model
+  /// set to `preset` and budget_s [s] first; an evaluation longer than deadline_us [us] counts as an overrun. The
+  /// result stays valid until the next step (loop thread only).
   const WheelOutput& step(double now_s, Preset preset, double budget_s, double deadline_us);
   /// Loop side: the last step as a wheel message stamped `stamp`; degraded = coarser than `configured`. Allocates
   /// nothing in a message prepared by reserveStrings().
@@ -113,6 +117,9 @@ class WheelPipeline {
   WheelOutput loop_output_;
   std::string loop_tire_id_;  ///< capacity kMaxTireIdLength: assignments never allocate
   double loop_unaccounted_s_ = 0.0;
+  bool input_time_ = false;
+  bool stepped_ = false;        ///< a step was taken (loop thread only)
+  double last_step_s_ = 0.0;    ///< its time [s] (loop thread only)
 
   std::mutex planner_mutex_;
   std::unique_ptr<WearModel> planner_model_;  ///< guarded by planner_mutex_
