@@ -226,8 +226,10 @@ const WheelOutput& WheelEstimator::step(double now_s, const WheelInputs& inputs,
   have_time_ = true;
   last_time_s_ = now_s;
 
-  // Sample the required inputs: each must exist, be valid and be fresh. An input stamped in the future
-  // (possible just after the clock jumped backwards) counts as stale.
+  // Sample the required inputs: each must exist, be valid and be fresh. An input stamped in the future (possible
+  // just after the clock jumped backwards) counts as stale; in input time (kInputGap) the step time may lag the
+  // latest input by up to max_step_s by design, and a gap longer than stale_timeout_s within the step is stale.
+  const double max_ahead_s = jump_rule == JumpRule::kInputGap ? params_.max_step_s : params_.stale_timeout_s;
   WheelStatus input_status = WheelStatus::kOk;
   for (InputKind kind : {InputKind::kLoad, InputKind::kSlip, InputKind::kSpeed}) {
     const WheelInputs::Sample& s = inputs.sample(kind);
@@ -236,7 +238,8 @@ const WheelOutput& WheelEstimator::step(double now_s, const WheelInputs& inputs,
       st = WheelStatus::kNoInput;
     } else if (!s.valid) {
       st = WheelStatus::kInvalidInput;
-    } else if (now_s - s.stamp_s > params_.stale_timeout_s || s.stamp_s - now_s > params_.stale_timeout_s) {
+    } else if (now_s - s.stamp_s > params_.stale_timeout_s || s.stamp_s - now_s > max_ahead_s ||
+               (jump_rule == JumpRule::kInputGap && s.longest_gap_s > params_.stale_timeout_s)) {
       st = WheelStatus::kStaleInput;
     }
     // Report the most actionable problem: invalid data over stale data over missing data.

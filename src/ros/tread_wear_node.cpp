@@ -128,10 +128,12 @@ void TreadWearNode::subscribeInputs(WheelPipeline* w) {
   auto arrival_s = [](const std_msgs::Header& header) {
     return ros::Time::isSimTime() && !header.stamp.isZero() ? header.stamp.toSec() : ros::Time::now().toSec();
   };
-  auto warn = [name](InputKind kind, InputFault fault) {
+  // In input time the wheel steps on its samples (WheelPipeline::setInputTime), here, after each one.
+  auto warn = [this, w, name](InputKind kind, InputFault fault) {
     if (fault != InputFault::kNone)
       ROS_WARN_THROTTLE(5.0, "wheel %s: rejected %s input (%s); the wheel is not evaluated until a valid one arrives",
                         name.c_str(), inputKindName(kind), inputFaultName(fault));
+    if (w->inputTime()) stepWheel(w, ros::Time::now().toSec());
   };
   input_subscribers_.push_back(nh_.subscribe<tread_wear::WheelLoad>(
       w->config().load_topic, queue_size, [w, warn, arrival_s](const tread_wear::WheelLoad::ConstPtr& m) {
@@ -177,6 +179,18 @@ void TreadWearNode::reconfigure(tread_wear::TreadWearConfig& c) {
     loop_timer_.setPeriod(ros::Duration(loop_status_.period_s.load()));
 }
 
+double TreadWearNode::evaluationDeadline_us() const {
+  const double budget_us = loop_status_.budget_us.load(std::memory_order_relaxed);
+  // The budget when set, else the wheel's share of the update period.
+  return budget_us > 0.0 ? budget_us
+                         : 1e6 * loop_status_.period_s.load(std::memory_order_relaxed) / static_cast<double>(wheels_.size());
+}
+
+void TreadWearNode::stepWheel(WheelPipeline* w, double now_s) {
+  w->step(now_s, loop_status_.configuredPreset(), 1e-6 * loop_status_.budget_us.load(std::memory_order_relaxed),
+          evaluationDeadline_us(), loop_status_.period_s.load(std::memory_order_relaxed));
+}
+
 void TreadWearNode::loop(const ros::TimerEvent&) {
   const double cycle_start = steadyNow_s();
   const ros::Time stamp = ros::Time::now();
@@ -191,15 +205,14 @@ void TreadWearNode::loop(const ros::TimerEvent&) {
   const Preset preset = loop_status_.configuredPreset();
   const double budget_us = loop_status_.budget_us.load(std::memory_order_relaxed);
   const double period_s = loop_status_.period_s.load(std::memory_order_relaxed);
-  // Deadline of one evaluation: the budget when set, else the wheel's share of the update period.
-  const double deadline_us = budget_us > 0.0 ? budget_us : 1e6 * period_s / static_cast<double>(wheels_.size());
+  const double deadline_us = evaluationDeadline_us();
   std::uint64_t skipped = 0;
   const bool vehicle_slot = vehicle_publisher_->trylock();
   if (!vehicle_slot) ++skipped;
   double total_rate_s = 0.0, total_rate_m = 0.0, total_loss = 0.0;
   for (std::size_t i = 0; i < wheels_.size(); ++i) {
     WheelPipeline& w = *wheels_[i];
-    const WheelOutput& out = w.step(now_s, preset, 1e-6 * budget_us, deadline_us);
+    const WheelOutput out = w.inputTime() ? w.lastOutput() : w.step(now_s, preset, 1e-6 * budget_us, deadline_us);
     RealtimePublisher<tread_wear::WheelWear>& publisher = *wheel_publishers_[i];
     if (publisher.trylock()) {
       w.fillMessage(stamp, preset, &publisher.msg());

@@ -35,6 +35,21 @@ void atomicMax(std::atomic<double>& a, double v) {
   }
 }
 
+/// A wheel's input time (WheelPipeline::setInputTime): the earliest of the required inputs' latest samples, at
+/// most max_step_s [s] behind the latest; *any = false (and 0) before any required input arrived.
+double inputTime_s(const WheelInputs& inputs, double max_step_s, bool* any) {
+  double earliest_s = 0.0, latest_s = 0.0;
+  *any = false;
+  for (InputKind kind : {InputKind::kLoad, InputKind::kSlip, InputKind::kSpeed}) {
+    const WheelInputs::Sample& sample = inputs.sample(kind);
+    if (sample.received == 0) continue;
+    earliest_s = *any ? std::min(earliest_s, sample.received_s) : sample.received_s;
+    latest_s = *any ? std::max(latest_s, sample.received_s) : sample.received_s;
+    *any = true;
+  }
+  return std::max(earliest_s, latest_s - max_step_s);
+}
+
 }  // namespace
 
 std::uint8_t statusCode(WheelStatus status) { return static_cast<std::uint8_t>(status); }
@@ -94,24 +109,21 @@ InputFault WheelPipeline::setTemperature(double t_s, double temperature_c) {
   return inputs_.setTemperature(t_s, temperature_c);
 }
 
-const WheelOutput& WheelPipeline::step(double now_s, Preset preset, double budget_s, double deadline_us) {
+const WheelOutput& WheelPipeline::step(double now_s, Preset preset, double budget_s, double deadline_us,
+                                       double input_step_s) {
+  std::lock_guard<std::mutex> step_lock(step_mutex_);
   {
     std::lock_guard<std::mutex> lock(input_mutex_);
-    loop_inputs_ = inputs_;
-    if (input_time_) inputs_.clearGaps();
-  }
-  if (input_time_) {
-    bool any = false;
-    double latest_s = 0.0;
-    for (InputKind kind : {InputKind::kLoad, InputKind::kSlip, InputKind::kSpeed}) {
-      const WheelInputs::Sample& sample = loop_inputs_.sample(kind);
-      if (sample.received == 0) continue;
-      latest_s = any ? std::max(latest_s, sample.received_s) : sample.received_s;
-      any = true;
+    if (input_time_) {
+      bool any = false;
+      const double input_time_s = inputTime_s(inputs_, estimator_params_.max_step_s, &any);
+      if (any) now_s = input_time_s;
+      // Not a step further yet (or no new sample at all: the bag paused or ended): nothing to do.
+      const bool advanced = now_s > last_step_s_ && now_s >= last_step_s_ + input_step_s;
+      if (stepped_ && now_s >= last_step_s_ && !advanced) return loop_output_;
     }
-    if (any) now_s = latest_s;
-    // No new sample since the last step: nothing to evaluate or integrate (the bag paused or ended).
-    if (stepped_ && now_s == last_step_s_) return loop_output_;
+    loop_inputs_ = inputs_;
+    if (input_time_) inputs_.clearGaps();  // the gaps of the samples since this step belong to the next one
   }
   stepped_ = true;
   last_step_s_ = now_s;
@@ -141,7 +153,13 @@ const WheelOutput& WheelPipeline::step(double now_s, Preset preset, double budge
   return loop_output_;
 }
 
+WheelOutput WheelPipeline::lastOutput() const {
+  std::lock_guard<std::mutex> lock(step_mutex_);
+  return loop_output_;
+}
+
 void WheelPipeline::fillMessage(const ros::Time& stamp, Preset configured, tread_wear::WheelWear* m) const {
+  std::lock_guard<std::mutex> lock(step_mutex_);
   const WheelOutput& out = loop_output_;
   m->header.stamp = stamp;
   if (m->wheel != config_.name) {  // first message only (capacity reserved by the caller)

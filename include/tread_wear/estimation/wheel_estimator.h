@@ -135,8 +135,9 @@ struct WheelEstimatorParams {
 /// What makes a forward step a time jump.
 enum class JumpRule : std::uint8_t {
   kStepLength = 0,  ///< the step is longer than max_step_s (steps on a clock that runs with the inputs: live)
-  /// a required input had a gap longer than max_step_s between two samples (steps at the inputs' own times: a step
-  /// may span many samples when the node steps less often than they arrive, as in a fast replay)
+  /// a required input had a gap longer than max_step_s between two samples (steps at the inputs' own times, which
+  /// may span many samples; a gap longer than stale_timeout_s within the step makes it stale, and an input may be
+  /// up to max_step_s, not stale_timeout_s, ahead of the step)
   kInputGap = 1
 };
 

@@ -65,17 +65,28 @@ class WheelPipeline {
   InputFault setSpeed(double t_s, double speed_mps);
   InputFault setTemperature(double t_s, double temperature_c);
 
-  /// Input time (the node under simulated time): a step is taken at the latest arrival time among the required
-  /// inputs' samples (their header stamps, node.cpp) instead of at now_s, and skipped while that time stands still;
-  /// before any required input arrives, at now_s. Off: every step at now_s. Set before the loop starts.
+  /// Input time (the node under simulated time): steps follow the inputs' own stamps (their header stamps,
+  /// tread_wear_node.cpp), not the node clock. The wheel's input time is how far all its required inputs have
+  /// arrived (the earliest of their latest samples), but never more than max_step_s behind the latest one, so that an
+  /// input that stopped turns stale instead of holding the wheel back; before any required input, now_s. A step is
+  /// taken when that time has advanced by input_step_s since the last one (or went back), otherwise skipped;
+  /// the subscribers call step() after every sample, so the steps depend on the data only, not on when the node
+  /// gets to process them. A forward time jump is then a gap in an input (JumpRule::kInputGap). Set before the
+  /// inputs are subscribed.
   void setInputTime(bool on) { input_time_ = on; }
-  /// Loop side: one step at now_s [s] (or at the input time, above) with the inputs as they are, the live model
-  /// set to `preset` and budget_s [s] first; an evaluation longer than deadline_us [us] counts as an overrun. The
-  /// result stays valid until the next step (loop thread only).
-  const WheelOutput& step(double now_s, Preset preset, double budget_s, double deadline_us);
+  bool inputTime() const { return input_time_; }
+  /// Step: one step at now_s [s] (or at the input time, above) with the inputs as they are, the live model set to
+  /// `preset` and budget_s [s] first; an evaluation longer than deadline_us [us] counts as an overrun. Steps are
+  /// serialized (the loop's clock steps, or the subscribers' input-time steps).
+  /// The result stays valid until the next step (use lastOutput() from another thread).
+  /// @param input_step_s in input time, the input time between two steps [s] (the update period)
+  const WheelOutput& step(double now_s, Preset preset, double budget_s, double deadline_us,
+                          double input_step_s = 0.0);
   /// Loop side: the last step as a wheel message stamped `stamp`; degraded = coarser than `configured`. Allocates
   /// nothing in a message prepared by reserveStrings().
   void fillMessage(const ros::Time& stamp, Preset configured, tread_wear::WheelWear* msg) const;
+  /// Loop side: a copy of the last step's output (input time: the subscribers step). Allocates nothing.
+  WheelOutput lastOutput() const;
 
   /// Planner (evaluate_wear): evaluateInputs() on the planner model at `preset`.
   EvalStatus plan(const WheelInputs& inputs, Preset preset, WearResult* result);
@@ -112,14 +123,15 @@ class WheelPipeline {
   std::string tire_id_;               ///< guarded by state_mutex_
   double reset_unix_s_ = 0.0;         ///< guarded by state_mutex_
 
-  // The loop's own copies, read by fillMessage() without a lock.
+  // The stepping side's own copies (guarded by step_mutex_: the loop, or in input time the subscribers).
+  mutable std::mutex step_mutex_;
   WheelInputs loop_inputs_;
   WheelOutput loop_output_;
   std::string loop_tire_id_;  ///< capacity kMaxTireIdLength: assignments never allocate
   double loop_unaccounted_s_ = 0.0;
   bool input_time_ = false;
-  bool stepped_ = false;        ///< a step was taken (loop thread only)
-  double last_step_s_ = 0.0;    ///< its time [s] (loop thread only)
+  bool stepped_ = false;        ///< a step was taken
+  double last_step_s_ = 0.0;    ///< its time [s]
 
   std::mutex planner_mutex_;
   std::unique_ptr<WearModel> planner_model_;  ///< guarded by planner_mutex_
