@@ -128,29 +128,31 @@ void TreadWearNode::subscribeInputs(WheelPipeline* w) {
   auto arrival_s = [](const std_msgs::Header& header) {
     return ros::Time::isSimTime() && !header.stamp.isZero() ? header.stamp.toSec() : ros::Time::now().toSec();
   };
-  // In input time the wheel steps on its samples (WheelPipeline::setInputTime), here, after each one.
-  auto warn = [this, w, name](InputKind kind, InputFault fault) {
+  // After each sample: a throttled warning when it was rejected; in input time the wheel's step, which follows its
+  // samples (WheelPipeline::setInputTime).
+  auto afterSample = [this, w, name](InputKind kind, InputFault fault) {
     if (fault != InputFault::kNone)
       ROS_WARN_THROTTLE(5.0, "wheel %s: rejected %s input (%s); the wheel is not evaluated until a valid one arrives",
                         name.c_str(), inputKindName(kind), inputFaultName(fault));
     if (w->inputTime()) stepWheel(w, ros::Time::now().toSec());
   };
   input_subscribers_.push_back(nh_.subscribe<tread_wear::WheelLoad>(
-      w->config().load_topic, queue_size, [w, warn, arrival_s](const tread_wear::WheelLoad::ConstPtr& m) {
-        warn(InputKind::kLoad, w->setLoad(arrival_s(m->header), m->load_n));
+      w->config().load_topic, queue_size, [w, afterSample, arrival_s](const tread_wear::WheelLoad::ConstPtr& m) {
+        afterSample(InputKind::kLoad, w->setLoad(arrival_s(m->header), m->load_n));
       }));
   input_subscribers_.push_back(nh_.subscribe<tread_wear::WheelSlip>(
-      w->config().slip_topic, queue_size, [w, warn, arrival_s](const tread_wear::WheelSlip::ConstPtr& m) {
-        warn(InputKind::kSlip,
-             w->setSlip(arrival_s(m->header), m->slip_angle_rad, m->slip_ratio, m->path_curvature_per_m));
+      w->config().slip_topic, queue_size, [w, afterSample, arrival_s](const tread_wear::WheelSlip::ConstPtr& m) {
+        afterSample(InputKind::kSlip,
+                    w->setSlip(arrival_s(m->header), m->slip_angle_rad, m->slip_ratio, m->path_curvature_per_m));
       }));
   input_subscribers_.push_back(nh_.subscribe<tread_wear::WheelSpeed>(
-      w->config().speed_topic, queue_size, [w, warn, arrival_s](const tread_wear::WheelSpeed::ConstPtr& m) {
-        warn(InputKind::kSpeed, w->setSpeed(arrival_s(m->header), m->speed_mps));
+      w->config().speed_topic, queue_size, [w, afterSample, arrival_s](const tread_wear::WheelSpeed::ConstPtr& m) {
+        afterSample(InputKind::kSpeed, w->setSpeed(arrival_s(m->header), m->speed_mps));
       }));
   input_subscribers_.push_back(nh_.subscribe<tread_wear::TreadTemperature>(
-      w->config().temperature_topic, queue_size, [w, warn, arrival_s](const tread_wear::TreadTemperature::ConstPtr& m) {
-        warn(InputKind::kTemperature, w->setTemperature(arrival_s(m->header), m->temperature_c));
+      w->config().temperature_topic, queue_size,
+      [w, afterSample, arrival_s](const tread_wear::TreadTemperature::ConstPtr& m) {
+        afterSample(InputKind::kTemperature, w->setTemperature(arrival_s(m->header), m->temperature_c));
       }));
 }
 
@@ -182,8 +184,8 @@ void TreadWearNode::reconfigure(tread_wear::TreadWearConfig& c) {
 double TreadWearNode::evaluationDeadline_us() const {
   const double budget_us = loop_status_.budget_us.load(std::memory_order_relaxed);
   // The budget when set, else the wheel's share of the update period.
-  return budget_us > 0.0 ? budget_us
-                         : 1e6 * loop_status_.period_s.load(std::memory_order_relaxed) / static_cast<double>(wheels_.size());
+  const double period_s = loop_status_.period_s.load(std::memory_order_relaxed);
+  return budget_us > 0.0 ? budget_us : 1e6 * period_s / static_cast<double>(wheels_.size());
 }
 
 void TreadWearNode::stepWheel(WheelPipeline* w, double now_s) {

@@ -35,6 +35,9 @@ void atomicMax(std::atomic<double>& a, double v) {
   }
 }
 
+/// Input times this close count as equal [s]: stamps have 1 ns resolution, differences of them carry rounding.
+constexpr double kStampTolerance_s = 1e-6;
+
 /// A wheel's input time (WheelPipeline::setInputTime): the earliest of the required inputs' latest samples, at
 /// most max_step_s [s] behind the latest; *any = false (and 0) before any required input arrived.
 double inputTime_s(const WheelInputs& inputs, double max_step_s, bool* any) {
@@ -119,7 +122,7 @@ const WheelOutput& WheelPipeline::step(double now_s, Preset preset, double budge
       const double input_time_s = inputTime_s(inputs_, estimator_params_.max_step_s, &any);
       if (any) now_s = input_time_s;
       // Not a step further yet (or no new sample at all: the bag paused or ended): nothing to do.
-      const bool advanced = now_s > last_step_s_ && now_s >= last_step_s_ + input_step_s;
+      const bool advanced = now_s > last_step_s_ && now_s - last_step_s_ > input_step_s - kStampTolerance_s;
       if (stepped_ && now_s >= last_step_s_ && !advanced) return loop_output_;
     }
     loop_inputs_ = inputs_;
