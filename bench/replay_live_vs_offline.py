@@ -4,7 +4,7 @@
 
 For each play rate R: a private master, `roslaunch tread_wear replay.launch bag:=BAG rate:=R exit_at_end:=false`
 (its default clock rate unless --clock-hz is given), the node's /diagnostics followed until the bag has ended
-(the clock stopped: two wheel reports in a row with unchanged accumulated losses after the loss started to grow),
+(the clock stood still for 2 s) and one more report came,
 then one markdown table row: the /clock rate received, live vs offline loss per wheel, stale steps, time jumps,
 unaccounted time, the achieved play rate (bag span over the wall time between the first and the last clock change),
 and how many wheel reports (after the loss began) and vehicle reports were not OK.
@@ -35,13 +35,13 @@ class Watch:
         self.wheels = {}
         self.not_ok_wheel_reports = 0
         self.not_ok_vehicle_reports = 0
-        self.vehicle_levels = []
+        self.last_report_wall = None
         self.first_clock_wall = None
         self.last_clock_wall = None
         self.last_clock = None
         self.clock_messages = 0
-        rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diagnostics, queue_size=100)
-        rospy.Subscriber("/clock", Clock, self.on_clock, queue_size=1000)
+        self.subscribers = [rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diagnostics, queue_size=100),
+                            rospy.Subscriber("/clock", Clock, self.on_clock, queue_size=1000)]
 
     def on_clock(self, msg):
         now = time.monotonic()
@@ -62,6 +62,7 @@ class Watch:
                     self.not_ok_wheel_reports += 1
             elif s.name.endswith(": vehicle") and s.level != DiagnosticStatus.OK and self.wheels:
                 self.not_ok_vehicle_reports += 1
+        self.last_report_wall = time.monotonic()
 
 
 def losses(watch):
@@ -77,20 +78,19 @@ def replay(args, rate, offline, env):
     proc = subprocess.Popen(launch, env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
     watch = Watch()
     try:
-        # Until the loss grew and then stayed the same over two consecutive reports of every wheel (clock stopped).
+        # Until the bag has ended: the clock ran and then stood still for 2 s, and a report came after that.
         deadline = time.monotonic() + 60.0 + 2.0 * offline["duration_s"] / rate
-        previous, stable = None, 0
         while time.monotonic() < deadline:
-            time.sleep(1.0)
-            current = losses(watch)
-            grown = current and all(v > 0.0 for v in current.values())
-            stable = stable + 1 if grown and current == previous else 0
-            if stable >= 2:
+            time.sleep(0.5)
+            now = time.monotonic()
+            if watch.last_clock_wall is not None and now - watch.last_clock_wall > 2.0 and \
+                    watch.last_report_wall is not None and watch.last_report_wall > watch.last_clock_wall + 1.0:
                 break
-            previous = current
         else:
             print("rate %g: the replay did not finish in time" % rate, file=sys.stderr)
     finally:
+        for subscriber in watch.subscribers:
+            subscriber.unregister()
         os.killpg(proc.pid, signal.SIGINT)
         proc.wait(timeout=30)
         log.close()
@@ -118,7 +118,8 @@ def main():
     try:
         time.sleep(3.0)
         rospy.init_node("replay_live_vs_offline", anonymous=True, disable_signals=True)
-        print("| R | /clock received [Hz] | live vs offline loss per wheel | stale steps | time jumps | unaccounted [s] "
+        print("| R | /clock received [Hz] | live vs offline loss per wheel | stale steps | time jumps fwd / back "
+              "| unaccounted [s] "
               "| achieved rate | non-OK wheel / vehicle reports |")
         print("|---|---|---|---|---|---|---|---|")
         for rate in args.rates:
@@ -129,12 +130,13 @@ def main():
             live = losses(watch)
             deviation = ["%+.2f %%" % (100.0 * (live[n] / reference[n] - 1.0)) for n in reference if n in live]
             stale = max(int(v["stale steps"]) for v in watch.wheels.values())
-            jumps = max(int(v["time jumps forward"]) + int(v["time jumps backward"]) for v in watch.wheels.values())
+            jumps = "%d / %d" % (max(int(v["time jumps forward"]) for v in watch.wheels.values()),
+                                 max(int(v["time jumps backward"]) for v in watch.wheels.values()))
             unaccounted = max(float(v["unaccounted time [s]"]) for v in watch.wheels.values())
             span = (watch.last_clock_wall or 0.0) - (watch.first_clock_wall or 0.0)
             achieved = offline["duration_s"] / span if span > 0.0 else 0.0
             clock_hz = watch.clock_messages / span if span > 0.0 else 0.0
-            print("| %g | %.0f | %s | %d | %d | %.2f | %.0f | %d / %d |" % (
+            print("| %g | %.0f | %s | %d | %s | %.2f | %.0f | %d / %d |" % (
                 rate, clock_hz, ", ".join(deviation), stale, jumps, unaccounted, achieved,
                 watch.not_ok_wheel_reports, watch.not_ok_vehicle_reports), flush=True)
     finally:

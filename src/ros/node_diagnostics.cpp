@@ -182,9 +182,6 @@ void NodeDiagnostics::diagnoseVehicle(diagnostic_updater::DiagnosticStatusWrappe
       incomplete += (incomplete.empty() ? "" : "; ") + wheels_[i]->config().name + " " + interval.describe();
     worst_share = std::max(worst_share, interval.faultShare());
   }
-  const std::uint64_t long_clock_steps = loop_.long_clock_steps.load();
-  const bool coarse_clock = long_clock_steps > last_long_clock_steps_;
-  last_long_clock_steps_ = long_clock_steps;
   stat.addf("accumulated loss [kg]", "%.9g", loss_kg);
   stat.add("complete since last report", incomplete.empty() ? "true" : "false");
   stat.addf("unaccounted time, worst wheel [s]", "%.3f", worst_since_start_s);
@@ -192,10 +189,7 @@ void NodeDiagnostics::diagnoseVehicle(diagnostic_updater::DiagnosticStatusWrappe
     stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "loss complete");
     return;
   }
-  std::string what = "loss incomplete since the last report: " + incomplete;
-  if (coarse_clock)
-    what += "; the clock advanced more than stale_timeout_s between update cycles (a replay: publish the clock "
-            "more often, rosbag play --hz, replay.launch clock_hz)";
+  const std::string what = "loss incomplete since the last report: " + incomplete;
   stat.summary(worst_share > kErrorUnintegratedShare ? diagnostic_msgs::DiagnosticStatus::ERROR
                                                       : diagnostic_msgs::DiagnosticStatus::WARN,
                what);
@@ -211,8 +205,6 @@ void NodeDiagnostics::diagnoseLoop(diagnostic_updater::DiagnosticStatusWrapper& 
   stat.addf("max cycle [us]", "%.1f", loop_.max_cycle_us.load());
   stat.add("cycle overruns", overruns);
   stat.add("skipped publications", loop_.skipped_publications.load());
-  stat.addf("last clock step [s]", "%.4f", loop_.last_clock_step_s.load());
-  stat.add("clock steps longer than stale_timeout_s", loop_.long_clock_steps.load());
   stat.add("rejected reconfigure", rejection.empty() ? "none" : rejection);
   if (overruns > last_cycle_overruns_) {
     stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "update cycle exceeded its period");

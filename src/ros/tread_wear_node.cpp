@@ -197,13 +197,6 @@ void TreadWearNode::loop(const ros::TimerEvent&) {
   const double cycle_start = steadyNow_s();
   const ros::Time stamp = ros::Time::now();
   const double now_s = stamp.toSec();
-  if (last_loop_time_s_ >= 0.0) {
-    const double clock_step_s = now_s - last_loop_time_s_;
-    loop_status_.last_clock_step_s.store(clock_step_s, std::memory_order_relaxed);
-    if (clock_step_s > config_.estimator.stale_timeout_s)
-      loop_status_.long_clock_steps.fetch_add(1, std::memory_order_relaxed);
-  }
-  last_loop_time_s_ = now_s;
   const Preset preset = loop_status_.configuredPreset();
   const double budget_us = loop_status_.budget_us.load(std::memory_order_relaxed);
   const double period_s = loop_status_.period_s.load(std::memory_order_relaxed);

@@ -22,10 +22,6 @@ struct LoopStatus {
   std::atomic<std::uint64_t> skipped_publications{0};  ///< messages skipped: the publisher thread was busy [-]
   std::atomic<double> last_cycle_us{0.0};              ///< duration of the last cycle [us]
   std::atomic<double> max_cycle_us{0.0};               ///< longest cycle since start [us]
-  /// Cycles whose clock advanced more than stale_timeout_s since the previous cycle [-]: inputs stamped at the
-  /// previous cycle are stale by then (a clock published too coarsely, e.g. rosbag play -r 50 at the default --hz).
-  std::atomic<std::uint64_t> long_clock_steps{0};
-  std::atomic<double> last_clock_step_s{0.0};  ///< clock advance between the last two cycles [s] (node clock)
 
   Preset configuredPreset() const { return static_cast<Preset>(preset.load(std::memory_order_relaxed)); }
 };

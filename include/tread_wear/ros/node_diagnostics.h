@@ -75,7 +75,6 @@ class NodeDiagnostics {
   std::vector<WheelHistory> history_;
   std::vector<TimeCounters> vehicle_history_;  ///< each wheel's counters at the previous vehicle report
   std::uint64_t last_cycle_overruns_ = 0;
-  std::uint64_t last_long_clock_steps_ = 0;  ///< of the previous vehicle report
 };
 
 }  // namespace tread_wear

@@ -78,7 +78,6 @@ class TreadWearNode {
   ros::Timer loop_timer_;
   std::thread loop_thread_;
   std::atomic<bool> loop_running_{false};
-  double last_loop_time_s_ = -1.0;  ///< node time of the previous cycle [s], < 0 before the first (loop thread only)
   std::vector<std::unique_ptr<RealtimePublisher<tread_wear::WheelWear>>> wheel_publishers_;
   std::unique_ptr<RealtimePublisher<tread_wear::VehicleWear>> vehicle_publisher_;
 
