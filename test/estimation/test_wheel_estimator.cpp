@@ -271,6 +271,21 @@ TEST_F(EstimatorTest, UnderTheInputGapRuleALongStepOverContinuousInputsIsIntegra
   EXPECT_EQ(est_.step(t, in_, model_, nullptr, JumpRule::kInputGap).status, WheelStatus::kTimeJump);
   EXPECT_EQ(est_.forwardJumps(), 1u);
   EXPECT_NEAR(est_.unaccountedTime_s(WheelStatus::kTimeJump), 1.5, 1e-9);
+  in_.clearGaps();
+  // A 0.7 s pause of the speed (> stale_timeout_s 0.5 s, < max_step_s): stale, although the step's own samples are
+  // fresh; the next step only opens a new interval.
+  const double before_s = t;
+  for (int k = 1; k <= 35; ++k) {
+    t += 0.02;
+    in_.setLoad(t, 75.0);
+    in_.setSlip(t, -2.0 * units::kDegree, 0.0, 1.0 / 0.060);
+    if (k == 35) in_.setSpeed(t, 0.15);
+  }
+  EXPECT_EQ(est_.step(t, in_, model_, nullptr, JumpRule::kInputGap).status, WheelStatus::kStaleInput);
+  in_.clearGaps();
+  feed(&in_, t + 0.02);
+  EXPECT_FALSE(est_.step(t + 0.02, in_, model_, nullptr, JumpRule::kInputGap).integrated);
+  EXPECT_NEAR(est_.unaccountedTime_s(WheelStatus::kStaleInput), t + 0.02 - before_s, 1e-9);
 }
 
 TEST_F(EstimatorTest, InputsStampedInTheFutureAfterABackwardJumpAreStale) {
