@@ -1,15 +1,18 @@
 #pragma once
 /// @file wheel_pipeline.h
 /// One wheel of tread_wear_node from its inputs to its wear message: the latest accepted inputs (validated on
-/// arrival by WheelInputs), the live model and estimator that the update loop steps, the planner model of the
-/// evaluate_wear service, the mounted tire's id and the evaluation timing. It knows ROS only as the message it
-/// fills: no node handle, so the tests drive it without a master (test/ros/test_node_parts.cpp).
+/// arrival by WheelInputs), the live model and estimator that the update loop steps (in input time, the
+/// subscribers), the planner model of the evaluate_wear service, the mounted tire's id and the evaluation timing. It
+/// knows ROS only as the message it fills: no node handle, so the tests drive it without a master
+/// (test/ros/test_node_parts.cpp).
 ///
 /// Locks (each held for a copy or one step, never across calls):
-///   input mutex    subscriber callbacks (set*) <-> the loop's copy of the inputs in step();
-///   state mutex    the loop's step() <-> services, diagnostics, persistence and markers (snapshots);
+///   step mutex     step() <-> fillMessage()/lastOutput(): uncontended live (the loop does all three); in input time
+///                  (simulated time) the subscribers step and the loop publishes;
+///   input mutex    subscriber callbacks (set*) <-> the copy of the inputs in step();
+///   state mutex    step() <-> services, diagnostics, persistence and markers (snapshots);
 ///   planner mutex  concurrent evaluate_wear calls on the planner model.
-/// step() and fillMessage() are the loop's: no allocation, logging or I/O (tire ids fit preallocated strings).
+/// step() and fillMessage() allocate nothing and never log or do I/O (tire ids fit preallocated strings).
 
 #include <array>
 #include <atomic>
@@ -38,7 +41,7 @@ void reserveStrings(tread_wear::WheelWear* msg);
 struct WheelSnapshot {
   WheelInputs inputs;          ///< inputs as received (with their counters)
   WheelInputs step_inputs;     ///< inputs of the last loop step
-  double step_time_s = 0.0;    ///< time of the last loop step [s] (node clock)
+  double step_time_s = 0.0;    ///< time of the last loop step [s] (node clock; in input time, the inputs')
   WheelOutput output;          ///< output of the last loop step
   std::string tire_id;
   std::uint64_t backward_jumps = 0, forward_jumps = 0, stale_steps = 0, evaluations = 0;
@@ -116,7 +119,7 @@ class WheelPipeline {
   WheelInputs inputs_;  ///< guarded by input_mutex_
 
   mutable std::mutex state_mutex_;
-  std::unique_ptr<WearModel> model_;  ///< live model, loop only
+  std::unique_ptr<WearModel> model_;  ///< live model, guarded by step_mutex_
   WheelEstimator estimator_;          ///< guarded by state_mutex_
   WheelInputs step_inputs_;           ///< guarded by state_mutex_
   double step_time_s_ = 0.0;          ///< guarded by state_mutex_
@@ -129,9 +132,9 @@ class WheelPipeline {
   WheelOutput loop_output_;
   std::string loop_tire_id_;  ///< capacity kMaxTireIdLength: assignments never allocate
   double loop_unaccounted_s_ = 0.0;
-  bool input_time_ = false;
-  bool stepped_ = false;        ///< a step was taken
-  double last_step_s_ = 0.0;    ///< its time [s]
+  bool stepped_ = false;      ///< a step was taken
+  double last_step_s_ = 0.0;  ///< its time [s]
+  bool input_time_ = false;   ///< set before any step (setInputTime)
 
   std::mutex planner_mutex_;
   std::unique_ptr<WearModel> planner_model_;  ///< guarded by planner_mutex_
