@@ -26,7 +26,8 @@ catkin_install_python(PROGRAMS scripts/grid_convergence.py scripts/plot_diagnosi
                       DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 # Not installed: the repository's own workflows, which run from a checkout (they change to the repository root, read
 # config/, data/ and examples/ there, and use a build directory such as _build): scripts/*.sh (main job, tests,
-# sanitizers, output comparison with its helper scripts/compare_outputs.py, sensitivity, rviz screenshot) and
-# bench/node_cpu.sh. catkin_lint has no per-file exception, so its check for executable files that are not installed
-# is off for the whole package: add a new script meant for rosrun to the list above.
+# sanitizers, output comparison with its helper scripts/compare_outputs.py, sensitivity, rviz screenshot),
+# bench/node_cpu.sh and bench/replay_live_vs_offline.py. catkin_lint has no per-file exception, so its check for
+# executable files that are not installed is off for the whole package: add a new script meant for rosrun to the
+# list above.
 #catkin_lint: ignore uninstalled_script

@@ -1,5 +1,6 @@
 #include "tread_wear/estimation/wheel_estimator.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -97,7 +98,9 @@ InputFault InputLimits::checkTemperature(double temperature_c) const {
 
 InputFault WheelInputs::record(InputKind kind, double t_s, InputFault fault) {
   Sample& s = samples_[static_cast<int>(kind)];
+  if (s.received > 0 && t_s - s.received_s > s.longest_gap_s) s.longest_gap_s = t_s - s.received_s;
   ++s.received;
+  s.received_s = t_s;
   if (fault != InputFault::kNone) {
     ++s.rejected;
     ++fault_counts_[static_cast<int>(fault)];
@@ -138,6 +141,10 @@ InputFault WheelInputs::setTemperature(double t_s, double temperature_c) {
   return record(InputKind::kTemperature, t_s, fault);
 }
 
+void WheelInputs::clearGaps() {
+  for (Sample& s : samples_) s.longest_gap_s = 0.0;
+}
+
 std::uint64_t WheelInputs::totalRejected() const {
   std::uint64_t n = 0;
   for (const Sample& s : samples_) n += s.rejected;
@@ -170,6 +177,7 @@ void WheelEstimator::restore(const WheelAccumulators& accumulators) {
   output_.accumulated_loss_kg = accumulators.accumulated_loss_kg;
   output_.distance_m = accumulators.distance_m;
   prev_evaluated_ = false;
+  prev_cause_ = WheelStatus::kNoInput;
   updateDepth();
 }
 
@@ -179,8 +187,25 @@ void WheelEstimator::updateDepth() {
   output_.remaining_tread_depth_m = remaining > 0.0 ? remaining : 0.0;
 }
 
+namespace {
+
+double longestRequiredGap_s(const WheelInputs& inputs) {
+  double gap_s = 0.0;
+  for (InputKind kind : {InputKind::kLoad, InputKind::kSlip, InputKind::kSpeed})
+    gap_s = std::max(gap_s, inputs.sample(kind).longest_gap_s);
+  return gap_s;
+}
+
+}  // namespace
+
+void WheelEstimator::loseInterval(double dt, WheelStatus cause) {
+  if (!(dt > 0.0)) return;  // a backward jump has no length to lose
+  unaccounted_s_ += dt;
+  unaccounted_by_cause_s_[static_cast<int>(cause)] += dt;
+}
+
 const WheelOutput& WheelEstimator::step(double now_s, const WheelInputs& inputs, const WearModel& model,
-                                        PatchFields* fields) {
+                                        PatchFields* fields, JumpRule jump_rule) {
   output_.evaluated = false;
   output_.integrated = false;
 
@@ -192,7 +217,8 @@ const WheelOutput& WheelEstimator::step(double now_s, const WheelInputs& inputs,
     if (dt < 0.0) {
       ++backward_jumps_;
       jumped = true;
-    } else if (dt > params_.max_step_s) {
+    } else if (jump_rule == JumpRule::kStepLength ? dt > params_.max_step_s
+                                                  : longestRequiredGap_s(inputs) > params_.max_step_s) {
       ++forward_jumps_;
       jumped = true;
     }
@@ -200,8 +226,10 @@ const WheelOutput& WheelEstimator::step(double now_s, const WheelInputs& inputs,
   have_time_ = true;
   last_time_s_ = now_s;
 
-  // Sample the required inputs: each must exist, be valid and be fresh. An input stamped in the future
-  // (possible just after the clock jumped backwards) counts as stale.
+  // Sample the required inputs: each must exist, be valid and be fresh. An input stamped in the future (possible
+  // just after the clock jumped backwards) counts as stale; in input time (kInputGap) the step time may lag the
+  // latest input by up to max_step_s by design, and a gap longer than stale_timeout_s within the step is stale.
+  const double max_ahead_s = jump_rule == JumpRule::kInputGap ? params_.max_step_s : params_.stale_timeout_s;
   WheelStatus input_status = WheelStatus::kOk;
   for (InputKind kind : {InputKind::kLoad, InputKind::kSlip, InputKind::kSpeed}) {
     const WheelInputs::Sample& s = inputs.sample(kind);
@@ -210,7 +238,8 @@ const WheelOutput& WheelEstimator::step(double now_s, const WheelInputs& inputs,
       st = WheelStatus::kNoInput;
     } else if (!s.valid) {
       st = WheelStatus::kInvalidInput;
-    } else if (now_s - s.stamp_s > params_.stale_timeout_s || s.stamp_s - now_s > params_.stale_timeout_s) {
+    } else if (now_s - s.stamp_s > params_.stale_timeout_s || s.stamp_s - now_s > max_ahead_s ||
+               (jump_rule == JumpRule::kInputGap && s.longest_gap_s > params_.stale_timeout_s)) {
       st = WheelStatus::kStaleInput;
     }
     // Report the most actionable problem: invalid data over stale data over missing data.
@@ -222,9 +251,10 @@ const WheelOutput& WheelEstimator::step(double now_s, const WheelInputs& inputs,
   if (input_status == WheelStatus::kStaleInput) ++stale_steps_;
 
   if (input_status != WheelStatus::kOk) {
-    if (dt > 0.0) unaccounted_s_ += dt;
-    prev_evaluated_ = false;
     output_.status = jumped ? WheelStatus::kTimeJump : input_status;
+    loseInterval(dt, output_.status);
+    prev_evaluated_ = false;
+    prev_cause_ = input_status;
     return output_;
   }
 
@@ -233,8 +263,9 @@ const WheelOutput& WheelEstimator::step(double now_s, const WheelInputs& inputs,
   const EvalStatus es = evaluateInputs(model, inputs, now_s, params_.stale_timeout_s, &output_.result, fields);
   if (es == EvalStatus::kInvalidInput) {
     // Unreachable with validated inputs unless limits exceed the model's domain; never integrate it.
-    if (dt > 0.0) unaccounted_s_ += dt;
+    loseInterval(dt, jumped ? WheelStatus::kTimeJump : WheelStatus::kInvalidInput);
     prev_evaluated_ = false;
+    prev_cause_ = WheelStatus::kInvalidInput;
     output_.status = WheelStatus::kInvalidInput;
     return output_;
   }
@@ -252,10 +283,11 @@ const WheelOutput& WheelEstimator::step(double now_s, const WheelInputs& inputs,
       output_.accumulated_loss_kg += 0.5 * (prev_wear_kg_per_s_ + wear_kg_per_s) * dt;
       output_.distance_m += 0.5 * (prev_speed_mps_ + speed) * dt;
       output_.integrated = true;
+      integrated_s_ += dt;
       updateDepth();
     }
   }
-  if (!output_.integrated && dt > 0.0) unaccounted_s_ += dt;
+  if (!output_.integrated) loseInterval(dt, jumped ? WheelStatus::kTimeJump : prev_cause_);
   prev_evaluated_ = true;
   prev_wear_kg_per_s_ = wear_kg_per_s;
   prev_speed_mps_ = speed;

@@ -25,7 +25,9 @@ struct NumberKey {
 };
 
 const NumberKey kNumberKeys[] = {
-    {"update_rate_hz", "Hz", "rate of the update loop, in (0, 1000] and >= 2 / max_step_s; reconfigurable",
+    {"update_rate_hz", "Hz",
+     "rate of the update loop, in (0, 1000] and >= 2 / max_step_s; under simulated time also each wheel's step in "
+     "its inputs' time; reconfigurable",
      [](NodeConfig& c) -> double& { return c.update_rate_hz; }},
     {"budget_us", "us", "time budget per wheel evaluation, >= 0 (0 = none); reconfigurable",
      [](NodeConfig& c) -> double& { return c.budget_us; }},

@@ -2,7 +2,9 @@
 
 #include <ros/console.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <string>
 
 namespace tread_wear {
@@ -12,11 +14,58 @@ double steadyNow_s() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
+/// The causes a step can leave time unintegrated for (WheelEstimator::unaccountedTime_s(cause)).
+constexpr WheelStatus kLossCauses[] = {WheelStatus::kNoInput, WheelStatus::kStaleInput, WheelStatus::kInvalidInput,
+                                       WheelStatus::kTimeJump};
+
+template <typename... Args>
+std::string printed(const char* format, Args... args) {
+  char buffer[128];
+  std::snprintf(buffer, sizeof buffer, format, args...);
+  return buffer;
+}
+
 }  // namespace
+
+double NodeDiagnostics::IntervalTime::faultShare() const {
+  const double elapsed_s = integrated_s + unintegrated_s;
+  return elapsed_s > 0.0 ? fault_s / elapsed_s : 0.0;
+}
+
+std::string NodeDiagnostics::IntervalTime::describe() const {
+  std::string causes;
+  for (WheelStatus cause : kLossCauses) {
+    const double lost_s = by_cause_s[static_cast<int>(cause)];
+    if (lost_s > 0.0)
+      causes += std::string(causes.empty() ? "" : ", ") + wheelStatusName(cause) + printed(" %.3f s", lost_s);
+  }
+  return printed("%.3f s of %.3f s not integrated", unintegrated_s, integrated_s + unintegrated_s) + " (" + causes +
+         ")";
+}
+
+NodeDiagnostics::IntervalTime NodeDiagnostics::takeInterval(const WheelSnapshot& s, TimeCounters* previous) {
+  IntervalTime interval;
+  interval.integrated_s = s.integrated_time_s - previous->integrated_s;
+  for (WheelStatus cause : kLossCauses) {
+    const int c = static_cast<int>(cause);
+    const double lost_s = s.unaccounted_by_cause_s[c] - previous->unintegrated_by_cause_s[c];
+    interval.by_cause_s[c] = lost_s;
+    interval.unintegrated_s += lost_s;
+    if (cause != WheelStatus::kNoInput) interval.fault_s += lost_s;
+  }
+  previous->integrated_s = s.integrated_time_s;
+  previous->unintegrated_by_cause_s = s.unaccounted_by_cause_s;
+  return interval;
+}
 
 NodeDiagnostics::NodeDiagnostics(const std::vector<std::unique_ptr<WheelPipeline>>& wheels, const LoopStatus& loop,
                                  const NodePersistence& persistence, const NodeReconfigure& reconfigure)
-    : wheels_(wheels), loop_(loop), persistence_(persistence), reconfigure_(reconfigure), history_(wheels.size()) {}
+    : wheels_(wheels),
+      loop_(loop),
+      persistence_(persistence),
+      reconfigure_(reconfigure),
+      history_(wheels.size()),
+      vehicle_history_(wheels.size()) {}
 
 void NodeDiagnostics::addTo(diagnostic_updater::Updater* updater) {
   updater->setHardwareID("tread_wear");
@@ -26,6 +75,7 @@ void NodeDiagnostics::addTo(diagnostic_updater::Updater* updater) {
     updater->add("wheel " + wheels_[i]->config().name, [this, i](diagnostic_updater::DiagnosticStatusWrapper& stat) {
       diagnoseWheel(i, ros::Time::now().toSec(), steadyNow_s(), stat);
     });
+  updater->add("vehicle", this, &NodeDiagnostics::diagnoseVehicle);
 }
 
 void NodeDiagnostics::diagnoseWheel(std::size_t index, double now_s, double wall_s,
@@ -59,6 +109,12 @@ void NodeDiagnostics::diagnoseWheel(std::size_t index, double now_s, double wall
   stat.add("time jumps backward", s.backward_jumps);
   stat.add("time jumps forward", s.forward_jumps);
   stat.addf("unaccounted time [s]", "%.3f", s.unaccounted_time_s);
+  const IntervalTime interval = takeInterval(s, &h.time);
+  stat.addf("integrated since last report [s]", "%.3f", interval.integrated_s);
+  stat.addf("unintegrated since last report [s]", "%.3f", interval.unintegrated_s);
+  for (WheelStatus cause : kLossCauses)
+    stat.addf(std::string("unintegrated since last report: ") + wheelStatusName(cause) + " [s]", "%.3f",
+              interval.by_cause_s[static_cast<int>(cause)]);
   stat.add("evaluations", s.evaluations);
   stat.addf("last evaluation [us]", "%.1f", w.lastEvaluation_us());
   stat.addf("max evaluation [us]", "%.1f", w.maxEvaluation_us());
@@ -84,6 +140,15 @@ void NodeDiagnostics::diagnoseWheel(std::size_t index, double now_s, double wall
   h.forward = s.forward_jumps;
   h.wall_s = wall_s;
 
+  if (interval.unintegrated_s > 0.0) {
+    // Whatever the status at this instant: time lost between two reports is never reported as OK.
+    const bool error = interval.faultShare() > kErrorUnintegratedShare;
+    const std::string what = interval.describe() + " since the last report";
+    stat.summary(error ? diagnostic_msgs::DiagnosticStatus::ERROR : diagnostic_msgs::DiagnosticStatus::WARN, what);
+    if (interval.fault_s > 0.0)
+      ROS_WARN_THROTTLE(5.0, "wheel %s: %s; accumulated loss incomplete", w.config().name.c_str(), what.c_str());
+    return;
+  }
   switch (out.status) {
     case WheelStatus::kOk:
     case WheelStatus::kLowSpeed:
@@ -97,14 +162,37 @@ void NodeDiagnostics::diagnoseWheel(std::size_t index, double now_s, double wall
     case WheelStatus::kNoInput: stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "waiting for inputs"); break;
     case WheelStatus::kStaleInput:
       stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "stale input: not evaluated");
-      ROS_WARN_THROTTLE(5.0, "wheel %s: inputs older than %.3f s; not evaluated, time not integrated",
-                        w.config().name.c_str(), w.estimatorParams().stale_timeout_s);
       break;
     case WheelStatus::kInvalidInput:
       stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "invalid input: not evaluated");
       break;
     case WheelStatus::kTimeJump: stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "time jump"); break;
   }
+}
+
+void NodeDiagnostics::diagnoseVehicle(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  double loss_kg = 0.0, worst_since_start_s = 0.0, worst_share = 0.0;
+  std::string incomplete;  // the wheels that lost time since the last report, with what they lost
+  for (std::size_t i = 0; i < wheels_.size(); ++i) {
+    const WheelSnapshot s = wheels_[i]->snapshot();
+    loss_kg += s.output.accumulated_loss_kg;
+    worst_since_start_s = std::max(worst_since_start_s, s.unaccounted_time_s);
+    const IntervalTime interval = takeInterval(s, &vehicle_history_[i]);
+    if (interval.unintegrated_s > 0.0)
+      incomplete += (incomplete.empty() ? "" : "; ") + wheels_[i]->config().name + " " + interval.describe();
+    worst_share = std::max(worst_share, interval.faultShare());
+  }
+  stat.addf("accumulated loss [kg]", "%.9g", loss_kg);
+  stat.add("complete since last report", incomplete.empty() ? "true" : "false");
+  stat.addf("unaccounted time, worst wheel [s]", "%.3f", worst_since_start_s);
+  if (incomplete.empty()) {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "loss complete");
+    return;
+  }
+  const std::string what = "loss incomplete since the last report: " + incomplete;
+  stat.summary(worst_share > kErrorUnintegratedShare ? diagnostic_msgs::DiagnosticStatus::ERROR
+                                                      : diagnostic_msgs::DiagnosticStatus::WARN,
+               what);
 }
 
 void NodeDiagnostics::diagnoseLoop(diagnostic_updater::DiagnosticStatusWrapper& stat) {

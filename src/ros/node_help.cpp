@@ -22,7 +22,7 @@ std::string nodeHelp() {
          "  out  wheels/<name>/wear               tread_wear/WheelWear         per wheel, every update\n"
          "  out  wear                             tread_wear/VehicleWear       all wheels and totals, every update\n"
          "  out  wear_markers                     visualization_msgs/MarkerArray  contact patches, marker_rate_hz\n"
-         "  out  /diagnostics                     diagnostic_msgs/DiagnosticArray  wheels, update loop, persistence\n"
+         "  out  /diagnostics                     diagnostic_msgs/DiagnosticArray  wheels, vehicle, update loop, persistence\n"
          "  out  /tf_static                       tf2_msgs/TFMessage           base_frame -> wheels with position_m\n"
          "  out  wear_map (latched)               tread_wear/PlannerWearMap    per-wheel wear map over (v, a_x, a_y) "
          "for planners, rebuilt on a preset or tread temperature change\n"

@@ -4,6 +4,7 @@
 #include <visualization_msgs/MarkerArray.h>
 
 #include <chrono>
+#include <cstdint>
 
 #include "tread_wear/TreadTemperature.h"
 #include "tread_wear/WheelLoad.h"
@@ -151,28 +152,40 @@ void TreadWearNode::startPlanner() {
 
 void TreadWearNode::subscribeInputs(WheelPipeline* w) {
   const std::string& name = w->config().name;
-  // Inputs are validated and counted on arrival, stamped with the node's clock (sim time under replay).
-  auto warn = [name](InputKind kind, InputFault fault) {
+  // Inputs are validated and counted on arrival, stamped with the node's clock; under simulated time with their own
+  // header stamp (when set), which the wheel's steps then follow (WheelPipeline::setInputTime, docs/node.md).
+  w->setInputTime(ros::Time::isSimTime());
+  // Live, a backlog would be stamped late: keep only the newest few. Stamped samples of a fast replay arrive in
+  // bursts: keep them all, since a dropped second of one input is a gap the wheel cannot integrate.
+  const std::uint32_t queue_size = ros::Time::isSimTime() ? 1000 : 10;
+  auto arrival_s = [](const std_msgs::Header& header) {
+    return ros::Time::isSimTime() && !header.stamp.isZero() ? header.stamp.toSec() : ros::Time::now().toSec();
+  };
+  // After each sample: a throttled warning when it was rejected; in input time the wheel's step, which follows its
+  // samples (WheelPipeline::setInputTime).
+  auto afterSample = [this, w, name](InputKind kind, InputFault fault) {
     if (fault != InputFault::kNone)
       ROS_WARN_THROTTLE(5.0, "wheel %s: rejected %s input (%s); the wheel is not evaluated until a valid one arrives",
                         name.c_str(), inputKindName(kind), inputFaultName(fault));
+    if (w->inputTime()) stepWheel(w, ros::Time::now().toSec());
   };
   input_subscribers_.push_back(nh_.subscribe<tread_wear::WheelLoad>(
-      w->config().load_topic, 10, [w, warn](const tread_wear::WheelLoad::ConstPtr& m) {
-        warn(InputKind::kLoad, w->setLoad(ros::Time::now().toSec(), m->load_n));
+      w->config().load_topic, queue_size, [w, afterSample, arrival_s](const tread_wear::WheelLoad::ConstPtr& m) {
+        afterSample(InputKind::kLoad, w->setLoad(arrival_s(m->header), m->load_n));
       }));
   input_subscribers_.push_back(nh_.subscribe<tread_wear::WheelSlip>(
-      w->config().slip_topic, 10, [w, warn](const tread_wear::WheelSlip::ConstPtr& m) {
-        warn(InputKind::kSlip,
-             w->setSlip(ros::Time::now().toSec(), m->slip_angle_rad, m->slip_ratio, m->path_curvature_per_m));
+      w->config().slip_topic, queue_size, [w, afterSample, arrival_s](const tread_wear::WheelSlip::ConstPtr& m) {
+        afterSample(InputKind::kSlip,
+                    w->setSlip(arrival_s(m->header), m->slip_angle_rad, m->slip_ratio, m->path_curvature_per_m));
       }));
   input_subscribers_.push_back(nh_.subscribe<tread_wear::WheelSpeed>(
-      w->config().speed_topic, 10, [w, warn](const tread_wear::WheelSpeed::ConstPtr& m) {
-        warn(InputKind::kSpeed, w->setSpeed(ros::Time::now().toSec(), m->speed_mps));
+      w->config().speed_topic, queue_size, [w, afterSample, arrival_s](const tread_wear::WheelSpeed::ConstPtr& m) {
+        afterSample(InputKind::kSpeed, w->setSpeed(arrival_s(m->header), m->speed_mps));
       }));
   input_subscribers_.push_back(nh_.subscribe<tread_wear::TreadTemperature>(
-      w->config().temperature_topic, 10, [w, warn](const tread_wear::TreadTemperature::ConstPtr& m) {
-        warn(InputKind::kTemperature, w->setTemperature(ros::Time::now().toSec(), m->temperature_c));
+      w->config().temperature_topic, queue_size,
+      [w, afterSample, arrival_s](const tread_wear::TreadTemperature::ConstPtr& m) {
+        afterSample(InputKind::kTemperature, w->setTemperature(arrival_s(m->header), m->temperature_c));
       }));
 }
 
@@ -201,6 +214,18 @@ void TreadWearNode::reconfigure(tread_wear::TreadWearConfig& c) {
     loop_timer_.setPeriod(ros::Duration(loop_status_.period_s.load()));
 }
 
+double TreadWearNode::evaluationDeadline_us() const {
+  const double budget_us = loop_status_.budget_us.load(std::memory_order_relaxed);
+  // The budget when set, else the wheel's share of the update period.
+  const double period_s = loop_status_.period_s.load(std::memory_order_relaxed);
+  return budget_us > 0.0 ? budget_us : 1e6 * period_s / static_cast<double>(wheels_.size());
+}
+
+void TreadWearNode::stepWheel(WheelPipeline* w, double now_s) {
+  w->step(now_s, loop_status_.configuredPreset(), 1e-6 * loop_status_.budget_us.load(std::memory_order_relaxed),
+          evaluationDeadline_us(), loop_status_.period_s.load(std::memory_order_relaxed));
+}
+
 void TreadWearNode::loop(const ros::TimerEvent&) {
   const double cycle_start = steadyNow_s();
   const ros::Time stamp = ros::Time::now();
@@ -208,15 +233,14 @@ void TreadWearNode::loop(const ros::TimerEvent&) {
   const Preset preset = loop_status_.configuredPreset();
   const double budget_us = loop_status_.budget_us.load(std::memory_order_relaxed);
   const double period_s = loop_status_.period_s.load(std::memory_order_relaxed);
-  // Deadline of one evaluation: the budget when set, else the wheel's share of the update period.
-  const double deadline_us = budget_us > 0.0 ? budget_us : 1e6 * period_s / static_cast<double>(wheels_.size());
+  const double deadline_us = evaluationDeadline_us();
   std::uint64_t skipped = 0;
   const bool vehicle_slot = vehicle_publisher_->trylock();
   if (!vehicle_slot) ++skipped;
   double total_rate_s = 0.0, total_rate_m = 0.0, total_loss = 0.0;
   for (std::size_t i = 0; i < wheels_.size(); ++i) {
     WheelPipeline& w = *wheels_[i];
-    const WheelOutput& out = w.step(now_s, preset, 1e-6 * budget_us, deadline_us);
+    const WheelOutput out = w.inputTime() ? w.lastOutput() : w.step(now_s, preset, 1e-6 * budget_us, deadline_us);
     RealtimePublisher<tread_wear::WheelWear>& publisher = *wheel_publishers_[i];
     if (publisher.trylock()) {
       w.fillMessage(stamp, preset, &publisher.msg());

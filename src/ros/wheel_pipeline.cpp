@@ -1,5 +1,6 @@
 #include "tread_wear/ros/wheel_pipeline.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -32,6 +33,24 @@ void atomicMax(std::atomic<double>& a, double v) {
   double cur = a.load(std::memory_order_relaxed);
   while (v > cur && !a.compare_exchange_weak(cur, v, std::memory_order_relaxed)) {
   }
+}
+
+/// Input times this close count as equal [s]: stamps have 1 ns resolution, differences of them carry rounding.
+constexpr double kStampTolerance_s = 1e-6;
+
+/// A wheel's input time (WheelPipeline::setInputTime): the earliest of the required inputs' latest samples, at
+/// most max_step_s [s] behind the latest; *any = false (and 0) before any required input arrived.
+double inputTime_s(const WheelInputs& inputs, double max_step_s, bool* any) {
+  double earliest_s = 0.0, latest_s = 0.0;
+  *any = false;
+  for (InputKind kind : {InputKind::kLoad, InputKind::kSlip, InputKind::kSpeed}) {
+    const WheelInputs::Sample& sample = inputs.sample(kind);
+    if (sample.received == 0) continue;
+    earliest_s = *any ? std::min(earliest_s, sample.received_s) : sample.received_s;
+    latest_s = *any ? std::max(latest_s, sample.received_s) : sample.received_s;
+    *any = true;
+  }
+  return std::max(earliest_s, latest_s - max_step_s);
 }
 
 }  // namespace
@@ -93,11 +112,24 @@ InputFault WheelPipeline::setTemperature(double t_s, double temperature_c) {
   return inputs_.setTemperature(t_s, temperature_c);
 }
 
-const WheelOutput& WheelPipeline::step(double now_s, Preset preset, double budget_s, double deadline_us) {
+const WheelOutput& WheelPipeline::step(double now_s, Preset preset, double budget_s, double deadline_us,
+                                       double input_step_s) {
+  std::lock_guard<std::mutex> step_lock(step_mutex_);
   {
     std::lock_guard<std::mutex> lock(input_mutex_);
+    if (input_time_) {
+      bool any = false;
+      const double input_time_s = inputTime_s(inputs_, estimator_params_.max_step_s, &any);
+      if (any) now_s = input_time_s;
+      // Not a step further yet (or no new sample at all: the bag paused or ended): nothing to do.
+      const bool advanced = now_s > last_step_s_ && now_s - last_step_s_ > input_step_s - kStampTolerance_s;
+      if (stepped_ && now_s >= last_step_s_ && !advanced) return loop_output_;
+    }
     loop_inputs_ = inputs_;
+    if (input_time_) inputs_.clearGaps();  // the gaps of the samples since this step belong to the next one
   }
+  stepped_ = true;
+  last_step_s_ = now_s;
   // Live reconfiguration: plain stores in the model. Under a budget the model picks the finest preset whose
   // measured time fits (wear_model.h).
   if (model_->wantedPreset() != preset) model_->setPreset(preset);
@@ -106,7 +138,8 @@ const WheelOutput& WheelPipeline::step(double now_s, Preset preset, double budge
   {
     std::lock_guard<std::mutex> lock(state_mutex_);
     const double t0 = steadyNow_s();
-    loop_output_ = estimator_.step(now_s, loop_inputs_, *model_);
+    loop_output_ = estimator_.step(now_s, loop_inputs_, *model_, nullptr,
+                                   input_time_ ? JumpRule::kInputGap : JumpRule::kStepLength);
     eval_us = 1e6 * (steadyNow_s() - t0);
     step_inputs_ = loop_inputs_;
     step_time_s_ = now_s;
@@ -123,7 +156,13 @@ const WheelOutput& WheelPipeline::step(double now_s, Preset preset, double budge
   return loop_output_;
 }
 
+WheelOutput WheelPipeline::lastOutput() const {
+  std::lock_guard<std::mutex> lock(step_mutex_);
+  return loop_output_;
+}
+
 void WheelPipeline::fillMessage(const ros::Time& stamp, Preset configured, tread_wear::WheelWear* m) const {
+  std::lock_guard<std::mutex> lock(step_mutex_);
   const WheelOutput& out = loop_output_;
   m->header.stamp = stamp;
   if (m->wheel != config_.name) {  // first message only (capacity reserved by the caller)
@@ -196,6 +235,9 @@ WheelSnapshot WheelPipeline::snapshot() const {
   s.stale_steps = estimator_.staleSteps();
   s.evaluations = estimator_.evaluations();
   s.unaccounted_time_s = estimator_.unaccountedTime_s();
+  for (int c = 0; c < kWheelStatusCount; ++c)
+    s.unaccounted_by_cause_s[c] = estimator_.unaccountedTime_s(static_cast<WheelStatus>(c));
+  s.integrated_time_s = estimator_.integratedTime_s();
   return s;
 }
 

@@ -271,6 +271,32 @@ TEST(NodeConfig, TheSlowestAcceptedRateIntegratesALateStep) {
 // ---------------------------------------------------------------------------------------------------------
 // Per-wheel pipeline.
 
+TEST(WheelPipeline, InInputTimeItStepsAtTheInputsStampsAndOnlyWhenTheyAdvance) {
+  const NodeConfig c = twoWheels();  // stale_timeout_s 0.3 s, max_step_s 0.6 s
+  WheelPipeline w(c.wheels[0], loadTireParams(kTireFile), c);
+  w.setInputTime(true);
+  // Before any input: at the node clock, waiting.
+  EXPECT_EQ(w.step(5.0, Preset::kFast, 0.0, 1e9).status, WheelStatus::kNoInput);
+  // Inputs stamped 10.0 to 12.0 s every 20 ms, the node stepping every 0.5 s of inputs at a clock far behind them
+  // (a clock published coarsely): every interval integrated, nothing stale, no jump.
+  for (int k = 500; k <= 600; ++k) {
+    feed(&w, 0.02 * k);
+    if (k % 25 == 0) w.step(1.0, Preset::kFast, 0.0, 1e9);
+  }
+  WheelSnapshot s = w.snapshot();
+  EXPECT_DOUBLE_EQ(s.step_time_s, 12.0);
+  EXPECT_EQ(s.stale_steps, 0u);
+  EXPECT_EQ(s.forward_jumps, 0u);
+  EXPECT_NEAR(s.integrated_time_s, 2.0, 1e-9);
+  EXPECT_NEAR(s.unaccounted_time_s, 5.0, 1e-9) << "the start, from the clock at 5 s to the first input at 10 s";
+  // No new sample: the step is skipped (no evaluation, nothing integrated or lost).
+  const std::uint64_t evaluations = s.evaluations;
+  w.step(2.0, Preset::kFast, 0.0, 1e9);
+  s = w.snapshot();
+  EXPECT_EQ(s.evaluations, evaluations);
+  EXPECT_NEAR(s.integrated_time_s + s.unaccounted_time_s, 7.0, 1e-9);
+}
+
 TEST(WheelPipeline, TheOperatingPointKeepsAFreshTreadTemperature) {
   const NodeConfig c = twoWheels();
   WheelInputs in(c.estimator.limits);
@@ -655,6 +681,82 @@ TEST(NodeDiagnostics, AWheelReportsItsInputsAndRejects) {
   EXPECT_EQ(values["speed age [s]"], "0.500");
   EXPECT_EQ(values["tread_temperature age [s]"], "never received");
   EXPECT_EQ(values["preset"], "fast");
+}
+
+TEST(NodeDiagnostics, TimeLostBetweenTwoReportsIsWarnAndAboveTheShareError) {
+  ros::Time::init();  // the throttled warning of lost time reads ros::Time
+  const NodeConfig c = twoWheels();  // 50 Hz, stale_timeout_s 0.3 s, max_step_s 0.6 s
+  const auto wheels = pipelines(c);
+  LoopStatus loop;
+  NodeReconfigure reconfigure(c, &loop);
+  NodePersistence persistence("");
+  NodeDiagnostics diagnostics(wheels, loop, persistence, reconfigure);
+  // Steps k0..k1 of 20 ms, inputs 10 ms before each (no age lands on the timeout); wheel a gets none where
+  // gap_a(t) holds, b always does.
+  auto run = [&](int k0, int k1, const std::function<bool(double)>& gap_a) {
+    for (int k = k0; k <= k1; ++k) {
+      const double t = 0.02 * k;
+      if (!gap_a(t)) feed(wheels[0].get(), t - 0.01);
+      feed(wheels[1].get(), t - 0.01);
+      for (const auto& w : wheels) w->step(t, Preset::kFast, 0.0, 1e9);
+    }
+  };
+  struct Report {
+    int level;
+    std::string message;
+    std::map<std::string, std::string> values;
+  };
+  auto report = [&](std::size_t wheel, double t) {
+    diagnostic_updater::DiagnosticStatusWrapper stat;
+    diagnostics.diagnoseWheel(wheel, t, 100.0 + t, stat);
+    Report r{stat.level, stat.message, {}};
+    for (const auto& kv : stat.values) r.values[kv.key] = kv.value;
+    return r;
+  };
+  auto vehicle = [&] {
+    diagnostic_updater::DiagnosticStatusWrapper stat;
+    diagnostics.diagnoseVehicle(stat);
+    return Report{stat.level, stat.message, {}};
+  };
+  auto never = [](double) { return false; };
+
+  run(0, 50, never);  // 0 to 1 s, all integrated
+  EXPECT_EQ(report(0, 1.0).level, diagnostic_msgs::DiagnosticStatus::OK);
+  EXPECT_EQ(report(1, 1.0).level, diagnostic_msgs::DiagnosticStatus::OK);
+  EXPECT_EQ(vehicle().level, diagnostic_msgs::DiagnosticStatus::OK);
+
+  // 1 to 2 s: a's inputs pause after 0.99 s until 1.39 s: the steps from 1.30 s find them stale, the one at
+  // 1.40 s fresh again; (1.28, 1.40] is lost.
+  run(51, 100, [](double t) { return t > 1.01 && t < 1.39; });
+  Report gap = report(0, 2.0);
+  EXPECT_EQ(gap.values["status"], "ok") << "fine at the instant of the report";
+  EXPECT_EQ(gap.level, diagnostic_msgs::DiagnosticStatus::WARN) << gap.message;
+  EXPECT_EQ(gap.values["unintegrated since last report [s]"], "0.120");
+  EXPECT_EQ(gap.values["unintegrated since last report: stale_input [s]"], "0.120");
+  EXPECT_EQ(gap.values["integrated since last report [s]"], "0.880");
+  EXPECT_NE(gap.message.find("0.120 s of 1.000 s not integrated (stale_input 0.120 s)"), std::string::npos)
+      << gap.message;
+  EXPECT_EQ(report(1, 2.0).level, diagnostic_msgs::DiagnosticStatus::OK);
+  const Report incomplete = vehicle();
+  EXPECT_EQ(incomplete.level, diagnostic_msgs::DiagnosticStatus::WARN) << incomplete.message;
+  EXPECT_NE(incomplete.message.find("loss incomplete"), std::string::npos) << incomplete.message;
+  EXPECT_NE(incomplete.message.find("a 0.120 s"), std::string::npos) << incomplete.message;
+  EXPECT_EQ(incomplete.message.find("b "), std::string::npos) << "b integrated everything: " << incomplete.message;
+
+  // 2 to 3 s: the clock jumps from 2.2 to 2.9 s (> max_step_s): 0.7 of 1 s lost, above the ERROR share.
+  run(101, 110, never);
+  run(145, 150, never);
+  Report jump = report(0, 3.0);
+  EXPECT_EQ(jump.level, diagnostic_msgs::DiagnosticStatus::ERROR) << jump.message;
+  EXPECT_EQ(jump.values["unintegrated since last report: time_jump [s]"], "0.700");
+  EXPECT_EQ(vehicle().level, diagnostic_msgs::DiagnosticStatus::ERROR);
+
+  // 3 to 4 s: all integrated again.
+  run(151, 200, never);
+  EXPECT_EQ(report(0, 4.0).level, diagnostic_msgs::DiagnosticStatus::OK);
+  const Report complete = vehicle();
+  EXPECT_EQ(complete.level, diagnostic_msgs::DiagnosticStatus::OK);
+  EXPECT_EQ(complete.message, "loss complete");
 }
 
 // ---------------------------------------------------------------------------------------------------------

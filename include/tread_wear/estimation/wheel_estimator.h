@@ -16,11 +16,14 @@
 ///   distance += 0.5 (V_prev + V_now) dt
 /// Only intervals whose both ends were evaluated from fresh, valid inputs are integrated. An interval that
 /// starts or ends without usable inputs (stale, invalid, missing) or spans a time jump is not integrated; its
-/// length is added to unaccountedTime_s() so a user sees how much of the drive the estimate does not cover.
+/// length is added to unaccountedTime_s() so a user sees how much of the drive the estimate does not cover, and
+/// to unaccountedTime_s(cause) under the reason the interval was lost; integratedTime_s() is the rest, so a reader
+/// that samples both (the node's diagnostics) knows the share lost between two of its samples.
 /// The accumulated loss therefore never decreases and never absorbs a wrong time step.
 ///
-/// Time jumps: dt < 0 (a looping bag, a simulation time reset) or dt > max_step_s (a pause, a clock jump)
-/// are counted and the step restarts the integration from the new time without touching the accumulated state.
+/// Time jumps: dt < 0 (a looping bag, a simulation time reset) or dt > max_step_s (a pause, a clock jump; with
+/// JumpRule::kInputGap, a gap longer than max_step_s in a required input instead) are counted and the step restarts
+/// the integration from the new time without touching the accumulated state.
 ///
 /// Equivalent tread depth: d = loss / (rho w 2 pi R) (MaterialParams::massPerDepth_kg_per_m), the depth of a
 /// uniform tread layer of density rho, width w and radius R that has the accumulated mass.
@@ -90,6 +93,8 @@ class WheelInputs {
   struct Sample {
     bool valid = false;             ///< a sample was accepted and no invalid one came after it
     double stamp_s = 0.0;           ///< arrival time of the accepted sample [s]
+    double received_s = 0.0;        ///< arrival time of the latest sample, accepted or rejected [s]
+    double longest_gap_s = 0.0;     ///< longest time between two consecutive samples since clearGaps() [s]
     std::uint64_t received = 0;     ///< samples received, valid or not [-]
     std::uint64_t rejected = 0;     ///< samples rejected [-]
     InputFault last_fault = InputFault::kNone;  ///< fault of the most recent rejected sample
@@ -98,6 +103,8 @@ class WheelInputs {
   /// Rejected samples of all inputs by fault class [-].
   std::uint64_t faultCount(InputFault fault) const { return fault_counts_[static_cast<int>(fault)]; }
   std::uint64_t totalRejected() const;
+  /// Restarts longest_gap_s of every input (the node in input time, after each copy for a step).
+  void clearGaps();
 
   double load_n() const { return load_n_; }                    ///< latest valid Fz [N]
   double slipAngle_rad() const { return slip_angle_rad_; }     ///< latest valid alpha [rad]
@@ -125,6 +132,15 @@ struct WheelEstimatorParams {
   bool validate(std::string* error) const;
 };
 
+/// What makes a forward step a time jump.
+enum class JumpRule : std::uint8_t {
+  kStepLength = 0,  ///< the step is longer than max_step_s (steps on a clock that runs with the inputs: live)
+  /// a required input had a gap longer than max_step_s between two samples (steps at the inputs' own times, which
+  /// may span many samples; a gap longer than stale_timeout_s within the step makes it stale, and an input may be
+  /// up to max_step_s, not stale_timeout_s, ahead of the step)
+  kInputGap = 1
+};
+
 /// Why a step did or did not integrate.
 enum class WheelStatus : std::uint8_t {
   kOk = 0,            ///< evaluated from fresh, valid inputs
@@ -134,6 +150,7 @@ enum class WheelStatus : std::uint8_t {
   kInvalidInput = 4,  ///< the latest sample of a required input was rejected
   kTimeJump = 5       ///< the clock jumped; integration restarts at this step
 };
+constexpr int kWheelStatusCount = 6;
 const char* wheelStatusName(WheelStatus status);
 
 /// What one step produced. Fields of the wear result are those of the last evaluation (zero before any).
@@ -162,8 +179,9 @@ class WheelEstimator {
 
   /// Samples inputs at time now_s [s], evaluates the model and integrates. Allocates nothing.
   /// @param fields optional local fields, pre-sized for the model's active preset
+  /// @param jump_rule what counts as a forward time jump
   const WheelOutput& step(double now_s, const WheelInputs& inputs, const WearModel& model,
-                          PatchFields* fields = nullptr);
+                          PatchFields* fields = nullptr, JumpRule jump_rule = JumpRule::kStepLength);
 
   /// Sets the accumulators (restore from the state store); the next step starts a new integration interval.
   void restore(const WheelAccumulators& accumulators);
@@ -178,9 +196,15 @@ class WheelEstimator {
   std::uint64_t staleSteps() const { return stale_steps_; }        ///< steps with a stale input [-]
   std::uint64_t evaluations() const { return evaluations_; }       ///< model evaluations [-]
   double unaccountedTime_s() const { return unaccounted_s_; }      ///< elapsed time not integrated [s]
+  /// Elapsed time not integrated because of `cause` [s]: kNoInput, kStaleInput, kInvalidInput or kTimeJump (an
+  /// interval that ends at a usable step after an unusable one is lost to the cause of the unusable one; after a
+  /// restore() or reset(), to kNoInput). Zero for kOk and kLowSpeed; the four sum to unaccountedTime_s().
+  double unaccountedTime_s(WheelStatus cause) const { return unaccounted_by_cause_s_[static_cast<int>(cause)]; }
+  double integratedTime_s() const { return integrated_s_; }        ///< elapsed time integrated [s]
 
  private:
   void updateDepth();
+  void loseInterval(double dt, WheelStatus cause);
 
   WheelEstimatorParams params_;
   MaterialParams material_;
@@ -189,9 +213,11 @@ class WheelEstimator {
   bool have_time_ = false;
   double last_time_s_ = 0.0;
   bool prev_evaluated_ = false;  ///< the previous step evaluated from valid inputs (interval start usable)
+  WheelStatus prev_cause_ = WheelStatus::kNoInput;  ///< why the previous step was unusable (when it was)
   double prev_wear_kg_per_s_ = 0.0, prev_speed_mps_ = 0.0;
   std::uint64_t backward_jumps_ = 0, forward_jumps_ = 0, stale_steps_ = 0, evaluations_ = 0;
-  double unaccounted_s_ = 0.0;
+  double unaccounted_s_ = 0.0, integrated_s_ = 0.0;
+  std::array<double, kWheelStatusCount> unaccounted_by_cause_s_{};
 };
 
 /// The operating point of a wheel's inputs at time now_s [s]: load, speed and slips as they are; the tread

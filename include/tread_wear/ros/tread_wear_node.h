@@ -62,6 +62,10 @@ class TreadWearNode {
   void reconfigure(tread_wear::TreadWearConfig& config);
   void broadcastWheelFrames();
   void startPlanner();
+  /// Deadline of one evaluation [us]: the budget when set, else the wheel's share of the update period.
+  double evaluationDeadline_us() const;
+  /// A step of wheel w at now_s [s] with the loop's settings (in input time, from its subscribers).
+  void stepWheel(WheelPipeline* w, double now_s);
 
   ros::NodeHandle nh_, pnh_;
   NodeConfig config_;

@@ -1,16 +1,20 @@
 #pragma once
 /// @file wheel_pipeline.h
 /// One wheel of tread_wear_node from its inputs to its wear message: the latest accepted inputs (validated on
-/// arrival by WheelInputs), the live model and estimator that the update loop steps, the planner model of the
-/// evaluate_wear service, the mounted tire's id and the evaluation timing. It knows ROS only as the message it
-/// fills: no node handle, so the tests drive it without a master (test/ros/test_node_parts.cpp).
+/// arrival by WheelInputs), the live model and estimator that the update loop steps (in input time, the
+/// subscribers), the planner model of the evaluate_wear service, the mounted tire's id and the evaluation timing. It
+/// knows ROS only as the message it fills: no node handle, so the tests drive it without a master
+/// (test/ros/test_node_parts.cpp).
 ///
 /// Locks (each held for a copy or one step, never across calls):
-///   input mutex    subscriber callbacks (set*) <-> the loop's copy of the inputs in step();
-///   state mutex    the loop's step() <-> services, diagnostics, persistence and markers (snapshots);
+///   step mutex     step() <-> fillMessage()/lastOutput(): uncontended live (the loop does all three); in input time
+///                  (simulated time) the subscribers step and the loop publishes;
+///   input mutex    subscriber callbacks (set*) <-> the copy of the inputs in step();
+///   state mutex    step() <-> services, diagnostics, persistence and markers (snapshots);
 ///   planner mutex  concurrent evaluate_wear calls on the planner model.
-/// step() and fillMessage() are the loop's: no allocation, logging or I/O (tire ids fit preallocated strings).
+/// step() and fillMessage() allocate nothing and never log or do I/O (tire ids fit preallocated strings).
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -37,11 +41,13 @@ void reserveStrings(tread_wear::WheelWear* msg);
 struct WheelSnapshot {
   WheelInputs inputs;          ///< inputs as received (with their counters)
   WheelInputs step_inputs;     ///< inputs of the last loop step
-  double step_time_s = 0.0;    ///< time of the last loop step [s] (node clock)
+  double step_time_s = 0.0;    ///< time of the last loop step [s] (node clock; in input time, the inputs')
   WheelOutput output;          ///< output of the last loop step
   std::string tire_id;
   std::uint64_t backward_jumps = 0, forward_jumps = 0, stale_steps = 0, evaluations = 0;
   double unaccounted_time_s = 0.0;  ///< elapsed time not integrated [s]
+  std::array<double, kWheelStatusCount> unaccounted_by_cause_s{};  ///< the same by WheelStatus cause [s]
+  double integrated_time_s = 0.0;   ///< elapsed time integrated [s]
 };
 
 class WheelPipeline {
@@ -62,13 +68,28 @@ class WheelPipeline {
   InputFault setSpeed(double t_s, double speed_mps);
   InputFault setTemperature(double t_s, double temperature_c);
 
-  /// Loop side: one step at now_s [s] with the inputs as they are, the live model set to `preset` and budget_s [s]
-  /// first; an evaluation longer than deadline_us [us] counts as an overrun. The result stays valid until the
-  /// next step (loop thread only).
-  const WheelOutput& step(double now_s, Preset preset, double budget_s, double deadline_us);
+  /// Input time (the node under simulated time): steps follow the inputs' own stamps (their header stamps,
+  /// tread_wear_node.cpp), not the node clock. The wheel's input time is how far all its required inputs have
+  /// arrived (the earliest of their latest samples), but never more than max_step_s behind the latest one, so that an
+  /// input that stopped turns stale instead of holding the wheel back; before any required input, now_s. A step is
+  /// taken when that time has advanced by input_step_s since the last one (or went back), otherwise skipped;
+  /// the subscribers call step() after every sample, so the steps depend on the data only, not on when the node
+  /// gets to process them. A forward time jump is then a gap in an input (JumpRule::kInputGap). Set before the
+  /// inputs are subscribed.
+  void setInputTime(bool on) { input_time_ = on; }
+  bool inputTime() const { return input_time_; }
+  /// Step: one step at now_s [s] (or at the input time, above) with the inputs as they are, the live model set to
+  /// `preset` and budget_s [s] first; an evaluation longer than deadline_us [us] counts as an overrun. Steps are
+  /// serialized (the loop's clock steps, or the subscribers' input-time steps).
+  /// The result stays valid until the next step (use lastOutput() from another thread).
+  /// @param input_step_s in input time, the input time between two steps [s] (the update period)
+  const WheelOutput& step(double now_s, Preset preset, double budget_s, double deadline_us,
+                          double input_step_s = 0.0);
   /// Loop side: the last step as a wheel message stamped `stamp`; degraded = coarser than `configured`. Allocates
   /// nothing in a message prepared by reserveStrings().
   void fillMessage(const ros::Time& stamp, Preset configured, tread_wear::WheelWear* msg) const;
+  /// Loop side: a copy of the last step's output (input time: the subscribers step). Allocates nothing.
+  WheelOutput lastOutput() const;
 
   /// Planner (evaluate_wear): evaluateInputs() on the planner model at `preset`.
   EvalStatus plan(const WheelInputs& inputs, Preset preset, WearResult* result);
@@ -98,18 +119,22 @@ class WheelPipeline {
   WheelInputs inputs_;  ///< guarded by input_mutex_
 
   mutable std::mutex state_mutex_;
-  std::unique_ptr<WearModel> model_;  ///< live model, loop only
+  std::unique_ptr<WearModel> model_;  ///< live model, guarded by step_mutex_
   WheelEstimator estimator_;          ///< guarded by state_mutex_
   WheelInputs step_inputs_;           ///< guarded by state_mutex_
   double step_time_s_ = 0.0;          ///< guarded by state_mutex_
   std::string tire_id_;               ///< guarded by state_mutex_
   double reset_unix_s_ = 0.0;         ///< guarded by state_mutex_
 
-  // The loop's own copies, read by fillMessage() without a lock.
+  // The stepping side's own copies (guarded by step_mutex_: the loop, or in input time the subscribers).
+  mutable std::mutex step_mutex_;
   WheelInputs loop_inputs_;
   WheelOutput loop_output_;
   std::string loop_tire_id_;  ///< capacity kMaxTireIdLength: assignments never allocate
   double loop_unaccounted_s_ = 0.0;
+  bool stepped_ = false;      ///< a step was taken
+  double last_step_s_ = 0.0;  ///< its time [s]
+  bool input_time_ = false;   ///< set before any step (setInputTime)
 
   std::mutex planner_mutex_;
   std::unique_ptr<WearModel> planner_model_;  ///< guarded by planner_mutex_

@@ -1,0 +1,149 @@
+#!/usr/bin/python3
+"""Live replay through tread_wear_node against the offline tread_wear_replay on the same bag (docs/node.md,
+"Replaying fast").
+
+For each play rate R: a private master, `roslaunch tread_wear replay.launch bag:=BAG rate:=R exit_at_end:=false`
+(its default clock rate unless --clock-hz is given), the node's /diagnostics followed until the bag has ended
+(the clock stood still for 2 s) and one more report came,
+then one markdown table row: the /clock rate received, live vs offline loss per wheel, stale steps, time jumps,
+unaccounted time, the achieved play rate (bag span over the wall time between the first and the last clock change),
+and how many wheel reports (after the loss began) and vehicle reports were not OK.
+
+Usage: bench/replay_live_vs_offline.py [--build _build] [--clock-hz HZ] RATE [RATE ...]
+The bag and its offline summary are the fast-replay rostest's (BUILD/test_data, made by the build)."""
+import argparse
+import json
+import os
+import pathlib
+import random
+import signal
+import subprocess
+import sys
+import time
+
+import rospy
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
+from rosgraph_msgs.msg import Clock
+
+REPO = pathlib.Path(__file__).resolve().parent.parent
+
+
+class Watch:
+    """The node's wheel reports (last values per wheel), its non-OK counts and the clock's first and last change."""
+
+    def __init__(self):
+        self.wheels = {}
+        self.not_ok_wheel_reports = 0
+        self.not_ok_vehicle_reports = 0
+        self.last_report_wall = None
+        self.first_clock_wall = None
+        self.last_clock_wall = None
+        self.last_clock = None
+        self.clock_messages = 0
+        self.subscribers = [rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diagnostics, queue_size=100),
+                            rospy.Subscriber("/clock", Clock, self.on_clock, queue_size=1000)]
+
+    def on_clock(self, msg):
+        now = time.monotonic()
+        self.clock_messages += 1
+        if self.last_clock is None or msg.clock != self.last_clock:
+            if self.first_clock_wall is None:
+                self.first_clock_wall = now
+            self.last_clock_wall = now
+            self.last_clock = msg.clock
+
+    def on_diagnostics(self, msg):
+        for s in msg.status:
+            if ": wheel " in s.name:
+                name = s.name.split(": wheel ", 1)[1]
+                self.wheels[name] = {kv.key: kv.value for kv in s.values}
+                loss_started = float(self.wheels[name]["accumulated loss [kg]"]) > 0.0
+                if loss_started and s.level != DiagnosticStatus.OK:
+                    self.not_ok_wheel_reports += 1
+            elif s.name.endswith(": vehicle") and s.level != DiagnosticStatus.OK and self.wheels:
+                self.not_ok_vehicle_reports += 1
+        self.last_report_wall = time.monotonic()
+
+
+def losses(watch):
+    return {n: float(v["accumulated loss [kg]"]) for n, v in watch.wheels.items()}
+
+
+def replay(args, rate, offline, env):
+    launch = ["roslaunch", "tread_wear", "replay.launch", "bag:=" + args.bag, "rate:=%g" % rate,
+              "exit_at_end:=false", "max_rate:=1e9"]  # measures above the launch's own limit too
+    if args.clock_hz:
+        launch.append("clock_hz:=%g" % args.clock_hz)
+    log = open(os.path.join(env["ROS_HOME"], "replay_r%g.log" % rate), "w")
+    proc = subprocess.Popen(launch, env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
+    watch = Watch()
+    try:
+        # Until the bag has ended: the clock ran and then stood still for 2 s, and a report came after that.
+        deadline = time.monotonic() + 60.0 + 2.0 * offline["duration_s"] / rate
+        while time.monotonic() < deadline:
+            time.sleep(0.5)
+            now = time.monotonic()
+            if watch.last_clock_wall is not None and now - watch.last_clock_wall > 2.0 and \
+                    watch.last_report_wall is not None and watch.last_report_wall > watch.last_clock_wall + 1.0:
+                break
+        else:
+            print("rate %g: the replay did not finish in time" % rate, file=sys.stderr)
+    finally:
+        for subscriber in watch.subscribers:
+            subscriber.unregister()
+        os.killpg(proc.pid, signal.SIGINT)
+        proc.wait(timeout=30)
+        log.close()
+    return watch
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--build", default=str(REPO / "_build"))
+    parser.add_argument("--clock-hz", type=float, default=0.0, help="replay.launch clock_hz (default: its own)")
+    parser.add_argument("rates", type=float, nargs="+")
+    args = parser.parse_args()
+    build = pathlib.Path(args.build).resolve()
+    args.bag = str(build / "test_data/wltc_first_300s.bag")
+    offline = json.load(open(build / "test_data/wltc_first_300s_offline.json"))
+    reference = {w["name"]: w["mass_loss_kg"] for w in offline["wheels"]}
+
+    port = random.randint(20000, 40000)
+    env = dict(os.environ, ROS_MASTER_URI="http://127.0.0.1:%d" % port, ROS_IP="127.0.0.1",
+               ROS_HOME=str(build / "ros_home"))
+    os.makedirs(env["ROS_HOME"], exist_ok=True)
+    os.environ.update(env)
+    core = subprocess.Popen(["roscore", "-p", str(port)], env=env, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.DEVNULL, start_new_session=True)
+    try:
+        time.sleep(3.0)
+        rospy.init_node("replay_live_vs_offline", anonymous=True, disable_signals=True)
+        print("| R | /clock received [Hz] | live vs offline loss per wheel | stale steps | time jumps fwd / back "
+              "| unaccounted [s] "
+              "| achieved rate | non-OK wheel / vehicle reports |")
+        print("|---|---|---|---|---|---|---|---|")
+        for rate in args.rates:
+            watch = replay(args, rate, offline, env)
+            if not watch.wheels:
+                print("| %g | no diagnostics |" % rate)
+                continue
+            live = losses(watch)
+            deviation = ["%+.2f %%" % (100.0 * (live[n] / reference[n] - 1.0)) for n in reference if n in live]
+            stale = max(int(v["stale steps"]) for v in watch.wheels.values())
+            jumps = "%d / %d" % (max(int(v["time jumps forward"]) for v in watch.wheels.values()),
+                                 max(int(v["time jumps backward"]) for v in watch.wheels.values()))
+            unaccounted = max(float(v["unaccounted time [s]"]) for v in watch.wheels.values())
+            span = (watch.last_clock_wall or 0.0) - (watch.first_clock_wall or 0.0)
+            achieved = offline["duration_s"] / span if span > 0.0 else 0.0
+            clock_hz = watch.clock_messages / span if span > 0.0 else 0.0
+            print("| %g | %.0f | %s | %d | %s | %.2f | %.0f | %d / %d |" % (
+                rate, clock_hz, ", ".join(deviation), stale, jumps, unaccounted, achieved,
+                watch.not_ok_wheel_reports, watch.not_ok_vehicle_reports), flush=True)
+    finally:
+        rospy.signal_shutdown("done")
+        os.killpg(core.pid, signal.SIGINT)
+        core.wait(timeout=30)
+
+
+if __name__ == "__main__":
+    main()
