@@ -14,6 +14,10 @@
 namespace tread_wear {
 namespace {
 
+/// Relative round-off of exp(ln(floor)) - floor: rates below it times the floor are zero wear [-].
+constexpr double kFloorRoundOff = 1e-9;
+
+
 bool strictlyIncreasingFinite(const std::vector<double>& axis) {
   for (std::size_t i = 0; i < axis.size(); ++i) {
     if (!std::isfinite(axis[i])) return false;
@@ -217,7 +221,10 @@ bool WearMap::rates(const TrajectorySample& sample, WheelRates* rates, std::stri
   }
   const double below_first = v / v_node;  // 1 from the first node up
   for (std::size_t w = 0; w < kWheelCount; ++w) {
-    rates->wear_kg_per_s[w] = std::max(0.0, std::exp(mixed[w]) - params_.wear_floor_kg_per_s) * below_first;
+    // A node that wears nothing (w4 = 0: pure stick) comes back as the floor's round-off, not as 0.
+    const double above_floor = std::exp(mixed[w]) - params_.wear_floor_kg_per_s;
+    rates->wear_kg_per_s[w] =
+        above_floor > kFloorRoundOff * params_.wear_floor_kg_per_s ? above_floor * below_first : 0.0;
     rates->stick_fraction[w] = mixed[kWheelCount + w];
   }
   return true;
