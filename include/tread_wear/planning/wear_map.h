@@ -39,10 +39,12 @@
 namespace tread_wear {
 
 struct WearMapParams {
-  /// Speed nodes [m/s], strictly increasing, first > 0: from the low-speed threshold through walking pace, 1 m/s
-  /// steps to 6 m/s, 2.5 m/s steps above 10 m/s.
-  std::vector<double> speed_mps = {0.1,  0.25, 0.5,  1.0,  1.5,  2.0,  3.0,  4.0,  5.0,  6.0,  8.0,  10.0, 12.5, 15.0,
-                                   17.5, 20.0, 22.5, 25.0, 27.5, 30.0, 32.5, 35.0, 37.5, 40.0, 42.5, 45.0};
+  /// Speed nodes [m/s], strictly increasing, first > 0: from the low-speed threshold through walking pace, 0.5 m/s
+  /// steps to 6 m/s (the lateral axis reaches kappa_max v^2 there, so a node's a_y changes fastest with v), 2.5 m/s
+  /// steps above 10 m/s.
+  std::vector<double> speed_mps = {0.1,  0.25, 0.5,  1.0,  1.5,  2.0,  2.5,  3.0,  3.5,  4.0,  4.5,  5.0,  5.5,
+                                   6.0,  7.0,  8.0,  10.0, 12.5, 15.0, 17.5, 20.0, 22.5, 25.0, 27.5, 30.0, 32.5,
+                                   35.0, 37.5, 40.0, 42.5, 45.0};
   /// Longitudinal acceleration nodes [m/s^2], strictly increasing: -8 (hard braking) to +5, every 0.25 within
   /// +-3 m/s^2 and every 0.5 beyond. Wear rises steeply from its minimum near zero drive force (Eq 19 on the driven
   /// wheels' slip), where ln(wdot) bends most: 0.5 m/s^2 cells there cost up to 13 % per sample, 0.25 about 3 %
