@@ -15,10 +15,10 @@ import io
 import json
 import math
 import os
-import subprocess
-import sys
 
 import matplotlib
+
+from road_validation import Scenarios, run
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -26,23 +26,6 @@ import matplotlib.pyplot as plt  # noqa: E402
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 VEHICLE = "config/vehicle_passenger_car.yaml"
 WHEELS = ["front_left", "front_right", "rear_left", "rear_right"]
-
-
-def run(cmd, stdin=None):
-    result = subprocess.run(cmd, cwd=REPO, capture_output=True, text=True, input=stdin)
-    if result.returncode != 0:
-        sys.exit(f"[eco] failed ({result.returncode}): {' '.join(cmd)}\n{result.stderr}{result.stdout[-2000:]}")
-    return result.stdout
-
-
-def drive_and_replay(args, name, drive_args):
-    bag, summary = os.path.join(args.out, name + ".bag"), os.path.join(args.out, name + ".json")
-    run([os.path.join(args.bin, "tread_wear_drive"), "--vehicle", VEHICLE, "--out", bag] + drive_args)
-    run([os.path.join(args.bin, "tread_wear_replay"), bag, "--wheels", "config/vehicle_wheels.yaml", "--rate-hz",
-         "50", "--quiet", "--summary", summary])
-    os.remove(os.path.join(REPO, bag))
-    s = json.load(open(os.path.join(REPO, summary)))
-    return {w["name"]: w["mg_per_km"] for w in s["wheels"]}, s["duration_s"]
 
 
 def trajectory_costs(args, rows):
@@ -90,10 +73,16 @@ def main():
     parser.add_argument("--bin", default=os.environ.get("TREAD_WEAR_BIN", "_build/devel/lib/tread_wear"))
     args = parser.parse_args()
     os.makedirs(os.path.join(REPO, args.out), exist_ok=True)
+    scenarios = Scenarios(args)
+
+    def drive_and_replay(name, drive_args):
+        r = scenarios.drive(name, drive_args)
+        return r["wheels_mg_per_km"], r["duration_s"]
+
     result = {}
 
     # 1. Calm and aggressive on the same route.
-    styles = {s: drive_and_replay(args, f"style_{s}", ["--style", s]) for s in ("calm", "aggressive")}
+    styles = {s: drive_and_replay(f"style_{s}", ["--style", s]) for s in ("calm", "aggressive")}
     ratio = {w: styles["aggressive"][0][w] / styles["calm"][0][w] for w in WHEELS}
     result["styles"] = {s: {"mg_per_km": styles[s][0], "duration_s": styles[s][1]} for s in styles}
     result["aggressive_over_calm"] = ratio
@@ -110,7 +99,7 @@ def main():
     result["cruise"] = {"speed_kmh": speeds, "vehicle_mg_per_km": cruise_mg}
     # 2b. The driver's acceleration limit on the WLTC route (braking 2.5, cornering 3.0 m/s^2 held).
     limits = [1.0, 1.5, 2.0, 2.5, 3.0]
-    by_limit = [sum(drive_and_replay(args, f"accel_{a}", ["--max-accel-mps2", str(a), "--max-decel-mps2", "2.5",
+    by_limit = [sum(drive_and_replay(f"accel_{a}", ["--max-accel-mps2", str(a), "--max-decel-mps2", "2.5",
                                                           "--max-lateral-accel-mps2", "3.0"])[0].values()) / 4
                 for a in limits]
     result["accel_limit"] = {"max_accel_mps2": limits, "mean_mg_per_km_per_tire": by_limit}

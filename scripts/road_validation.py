@@ -39,8 +39,8 @@ PUBLISHED = {
 }
 
 
-def run(cmd):
-    result = subprocess.run(cmd, cwd=REPO, capture_output=True, text=True)
+def run(cmd, stdin=None):
+    result = subprocess.run(cmd, cwd=REPO, capture_output=True, text=True, input=stdin)
     if result.returncode != 0:
         sys.exit(f"[road_validation] failed ({result.returncode}): {' '.join(cmd)}\n{result.stderr}")
     return result.stdout
@@ -48,7 +48,7 @@ def run(cmd):
 
 class Scenarios:
     def __init__(self, args):
-        self.bin, self.out, self.preset = args.bin, args.out, args.preset
+        self.bin, self.out, self.preset = args.bin, args.out, getattr(args, "preset", "standard")
         self.results = {}
 
     def drive(self, name, drive_args, vehicle=VEHICLE):
@@ -61,7 +61,7 @@ class Scenarios:
         os.remove(bag)
         s = json.load(open(os.path.join(REPO, summary)))
         wheels = {w["name"]: w["mg_per_km"] for w in s["wheels"]}
-        r = {"wheels_mg_per_km": wheels, "mean_mg_per_km": s["mean_mg_per_km"],
+        r = {"wheels_mg_per_km": wheels, "mean_mg_per_km": s["mean_mg_per_km"], "duration_s": s["duration_s"],
              "vehicle_mg_per_km": sum(wheels.values()),
              "front_mg_per_km": sum(wheels[w] for w in FRONT) / 2, "rear_mg_per_km": sum(wheels[w] for w in REAR) / 2,
              "phases_mg_per_km": {p["name"]: p["mean_mg_per_km"] for p in s.get("phases", [])}}
