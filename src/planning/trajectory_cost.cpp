@@ -12,17 +12,8 @@
 namespace tread_wear {
 namespace {
 
-/// A value as a user typed it (NaN without glibc's sign, full precision).
-std::string text(double v) {
-  if (std::isnan(v)) return "nan";
-  std::ostringstream s;
-  s.precision(10);
-  s << v;
-  return s.str();
-}
-
 std::string sampleError(std::size_t index, const char* field, double value, const std::string& constraint) {
-  return "sample " + std::to_string(index) + ": " + field + " = " + text(value) + ": must be " + constraint;
+  return "sample " + std::to_string(index) + ": " + field + " = " + valueText(value) + ": must be " + constraint;
 }
 
 /// FNV-1a over the bit patterns of doubles (-0 folded into 0 and every NaN into one, so equal values hash equal).
@@ -175,16 +166,16 @@ bool checkSample(const VehicleWearSetup& setup, const TrajectorySample& s, std::
   if (!std::isfinite(s.speed_mps)) return fail("speed_mps", s.speed_mps, "finite [m/s]");
   if (s.speed_mps < 0.0) return fail("speed_mps", s.speed_mps, ">= 0 [m/s]");
   if (s.speed_mps > setup.limits.max_speed_mps)
-    return fail("speed_mps", s.speed_mps, "<= limits.max_speed_mps = " + text(setup.limits.max_speed_mps) + " [m/s]");
+    return fail("speed_mps", s.speed_mps, "<= limits.max_speed_mps = " + valueText(setup.limits.max_speed_mps) + " [m/s]");
   if (!std::isfinite(s.accel_mps2)) return fail("accel_mps2", s.accel_mps2, "finite [m/s^2]");
   if (!std::isfinite(s.path_curvature_per_m)) return fail("path_curvature_per_m", s.path_curvature_per_m, "finite [1/m]");
   if (std::fabs(s.path_curvature_per_m) > setup.max_path_curvature_per_m)
     return fail("path_curvature_per_m", s.path_curvature_per_m,
-                "within +-max_path_curvature_per_m = " + text(setup.max_path_curvature_per_m) + " [1/m]");
+                "within +-max_path_curvature_per_m = " + valueText(setup.max_path_curvature_per_m) + " [1/m]");
   if (!std::isfinite(s.grade_rad)) return fail("grade_rad", s.grade_rad, "finite [rad]");
   if (std::fabs(s.grade_rad) > setup.max_abs_grade_rad)
     return fail("grade_rad", s.grade_rad,
-                "within +-max_abs_grade_rad = " + text(setup.max_abs_grade_rad) + " [rad]");
+                "within +-max_abs_grade_rad = " + valueText(setup.max_abs_grade_rad) + " [rad]");
   return true;
 }
 
@@ -207,7 +198,7 @@ TrajectoryCost integrateTrajectory(const VehicleWearSetup& setup, const WheelRat
       cost.status = CostStatus::kBadInput;
       cost.bad_sample = k;
       cost.message = sampleError(k, "time_s", samples[k].time_s,
-                                 "> time_s of sample " + std::to_string(k - 1) + " = " + text(samples[k - 1].time_s) +
+                                 "> time_s of sample " + std::to_string(k - 1) + " = " + valueText(samples[k - 1].time_s) +
                                      " [s] (strictly increasing)");
       return cost;
     }

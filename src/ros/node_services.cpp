@@ -3,20 +3,13 @@
 #include <cmath>
 #include <sstream>
 
+#include "tread_wear/model/validation.h"
+
 namespace tread_wear {
 namespace {
 
-/// A value as a user typed it: NaN without the sign bit glibc prints ("-nan" means nothing to a planner).
-std::string text(double v) {
-  if (std::isnan(v)) return "nan";
-  std::ostringstream s;
-  s.precision(10);
-  s << v;
-  return s.str();
-}
-
 std::string field(const char* name, double value, const std::string& constraint) {
-  return std::string(name) + " = " + text(value) + ": must be " + constraint;
+  return std::string(name) + " = " + valueText(value) + ": must be " + constraint;
 }
 
 /// Why a hypothetical state was rejected; fault is what WheelInputs returned for the input `kind` of state s.
@@ -38,24 +31,24 @@ std::string describeInputFault(const tread_wear::WheelState& s, InputKind kind, 
       break;
     case InputFault::kNegativeLoad: return field("load_n", s.load_n, ">= 0 [N] (0 = wheel off the ground)");
     case InputFault::kLoadTooLarge:
-      return field("load_n", s.load_n, "<= limits/max_load_n = " + text(limits.max_load_n) + " [N]");
+      return field("load_n", s.load_n, "<= limits/max_load_n = " + valueText(limits.max_load_n) + " [N]");
     case InputFault::kSlipAngleOutOfRange:
       return field("slip_angle_rad", s.slip_angle_rad,
-                   "within +-limits/max_abs_slip_angle_rad = " + text(limits.max_abs_slip_angle_rad) + " [rad]");
+                   "within +-limits/max_abs_slip_angle_rad = " + valueText(limits.max_abs_slip_angle_rad) + " [rad]");
     case InputFault::kSlipRatioOutOfRange:
       return field("slip_ratio", s.slip_ratio,
-                   "within +-limits/max_abs_slip_ratio = " + text(limits.max_abs_slip_ratio) + " and > -1 [-]");
+                   "within +-limits/max_abs_slip_ratio = " + valueText(limits.max_abs_slip_ratio) + " and > -1 [-]");
     case InputFault::kCurvatureOutOfRange:
       return field("path_curvature_per_m", s.path_curvature_per_m,
-                   "within +-limits/max_abs_path_curvature_per_m = " + text(limits.max_abs_path_curvature_per_m) +
+                   "within +-limits/max_abs_path_curvature_per_m = " + valueText(limits.max_abs_path_curvature_per_m) +
                        " [1/m]");
     case InputFault::kNegativeSpeed: return field("speed_mps", s.speed_mps, ">= 0 [m/s]");
     case InputFault::kSpeedTooLarge:
-      return field("speed_mps", s.speed_mps, "<= limits/max_speed_mps = " + text(limits.max_speed_mps) + " [m/s]");
+      return field("speed_mps", s.speed_mps, "<= limits/max_speed_mps = " + valueText(limits.max_speed_mps) + " [m/s]");
     case InputFault::kTemperatureOutOfRange:
       return field("tread_temperature_c", s.tread_temperature_c,
-                   "in [limits/min_temperature_c, limits/max_temperature_c] = [" + text(limits.min_temperature_c) +
-                       ", " + text(limits.max_temperature_c) + "] [degC], or NaN for unknown");
+                   "in [limits/min_temperature_c, limits/max_temperature_c] = [" + valueText(limits.min_temperature_c) +
+                       ", " + valueText(limits.max_temperature_c) + "] [degC], or NaN for unknown");
   }
   return std::string("rejected: ") + inputFaultName(fault);
 }

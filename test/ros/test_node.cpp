@@ -369,37 +369,47 @@ TEST(NodeIo, ReconfigureRejectsWhatStartUpRejectsWithoutClamping) {
   EXPECT_EQ(setRate(50.0), 50.0);
 }
 
-// ---------------------------------------------------------------------------------------------------------
-// Time jump (time_jump.test: use_sim_time, this test drives /clock).
-TEST(TimeJump, BackwardJumpKeepsTheAccumulatedLoss) {
-  ros::NodeHandle nh;
-  ros::Publisher clock = nh.advertise<rosgraph_msgs::Clock>("/clock", 10);
-  Harness h("a");
-  double t = 100.0;
-  auto tick = [&](double dt) {
-    t += dt;
+/// Drives /clock for the sim-time tests: from 100 s, about real time (10 ms of sim time per 10 ms wall), with the
+/// harness's inputs published every step. t_s may be set to jump the clock.
+struct SimClock {
+  explicit SimClock(Harness* harness)
+      : h(harness), clock(ros::NodeHandle().advertise<rosgraph_msgs::Clock>("/clock", 10)) {}
+  /// Advances the clock by dt_s [s] and publishes it.
+  void tick(double dt_s) {
+    t_s += dt_s;
     rosgraph_msgs::Clock c;
-    c.clock = ros::Time(t);
+    c.clock = ros::Time(t_s);
     clock.publish(c);
-  };
-  // Sim time runs at about real time: 10 ms per 10 ms wall (spinUntil sleeps 10 ms per iteration).
-  auto run = [&](const std::function<bool()>& pred, double timeout_s) {
+  }
+  /// Steps until pred holds (true) or timeout_s of wall time passed (false).
+  bool runUntil(const std::function<bool()>& pred, double timeout_s) {
     const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout_s);
     while (ros::WallTime::now() < end) {
       tick(0.01);
-      h.publish();
+      h->publish();
       ros::WallDuration(0.01).sleep();
       ros::spinOnce();
       if (pred()) return true;
     }
     return false;
-  };
+  }
+  Harness* h;
+  ros::Publisher clock;
+  double t_s = 100.0;
+};
+
+// ---------------------------------------------------------------------------------------------------------
+// Time jump (time_jump.test: use_sim_time, this test drives /clock).
+TEST(TimeJump, BackwardJumpKeepsTheAccumulatedLoss) {
+  Harness h("a");
+  SimClock sim(&h);
+  auto run = [&](const std::function<bool()>& pred, double timeout_s) { return sim.runUntil(pred, timeout_s); };
   ASSERT_TRUE(run([&] { return h.last().accumulated_loss_kg > 0.0 && h.count() > 50; }, 15.0));
   const double before = h.last().accumulated_loss_kg;
   const double distance_before = h.last().distance_m;
   // A looping bag: the clock restarts at 10 s. Under sim time the wheel steps on its inputs (here stamped on
   // arrival) and /wear samples it at the update rate, so the jump is awaited in the diagnostics' count.
-  t = 10.0;
+  sim.t_s = 10.0;
   ASSERT_TRUE(run(
       [&] { return !h.diag("time jumps backward").empty() && std::stoi(h.diag("time jumps backward")) >= 1; }, 5.0));
   EXPECT_GE(h.last().accumulated_loss_kg, before);
@@ -419,28 +429,9 @@ TEST(TimeJump, BackwardJumpKeepsTheAccumulatedLoss) {
 // The report after the gap finds fresh inputs at its own instant, so only a level that covers the whole interval
 // since the previous report can show the loss.
 TEST(UnintegratedTime, AGapBetweenTwoReportsIsWarnWithItsSeconds) {
-  ros::NodeHandle nh;
-  ros::Publisher clock = nh.advertise<rosgraph_msgs::Clock>("/clock", 10);
   Harness h("a");
-  double t = 100.0;
-  auto tick = [&](double dt) {
-    t += dt;
-    rosgraph_msgs::Clock c;
-    c.clock = ros::Time(t);
-    clock.publish(c);
-  };
-  // Sim time at about real time with inputs every 10 ms, until pred holds.
-  auto run = [&](const std::function<bool()>& pred, double timeout_s) {
-    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout_s);
-    while (ros::WallTime::now() < end) {
-      tick(0.01);
-      h.publish();
-      ros::WallDuration(0.01).sleep();
-      ros::spinOnce();
-      if (pred()) return true;
-    }
-    return false;
-  };
+  SimClock sim(&h);
+  auto run = [&](const std::function<bool()>& pred, double timeout_s) { return sim.runUntil(pred, timeout_s); };
   // Steady state: a report with nothing lost (the start, before the first input, is in an earlier one).
   ASSERT_TRUE(run(
       [&] {
@@ -453,7 +444,7 @@ TEST(UnintegratedTime, AGapBetweenTwoReportsIsWarnWithItsSeconds) {
   // advances), in 10 ms ticks slow enough for the 50 Hz loop to step in between: the speed turns stale after 0.3 s.
   const int reports = h.diagCount();
   for (int k = 0; k < 50; ++k) {
-    tick(0.01);
+    sim.tick(0.01);
     h.publish(kLoad, kSpeed, false);
     ros::WallDuration(0.005).sleep();
   }
