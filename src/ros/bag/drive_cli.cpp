@@ -3,6 +3,7 @@
 #include <ros/time.h>
 
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <exception>
 #include <utility>
@@ -43,6 +44,21 @@ const char* const kUsage =
     "  --seed       route random stream (deterministic per seed)\n"
     "  --sensors    also write what the car's sensors measured on the same drive: imu, joint_states, odom,\n"
     "               /tf_static (sensor model and its fixed parameters: docs/vehicle_inputs.md)\n";
+
+/// A params struct's validate() error ("<field> = <value>: must be ...") as the command line's error, naming the
+/// option the field came from when `options` (field, option) has it. Always false.
+template <std::size_t N>
+bool failInOption(const std::string& field_error, const std::pair<const char*, const char*> (&options)[N],
+                  std::string* error) {
+  for (const auto& [field, option] : options) {
+    if (field_error.rfind(std::string(field) + " =", 0) == 0) {
+      *error = std::string(option) + " out of range: " + field_error;
+      return false;
+    }
+  }
+  *error = field_error;
+  return false;
+}
 
 /// The command-line option of each ManoeuvreParams field, so that a validation error names what the user typed.
 const std::pair<const char*, const char*> kManoeuvreOptions[] = {
@@ -110,15 +126,7 @@ bool readManoeuvre(const CommandLine& args, ManoeuvreParams* params, std::string
   }
   params->turn_right = direction == "right";
   std::string field_error;
-  if (params->validate(&field_error)) return true;
-  for (const auto& [field, option] : kManoeuvreOptions) {
-    if (field_error.rfind(std::string(field) + " =", 0) == 0) {
-      *error = std::string(option) + " out of range: " + field_error;
-      return false;
-    }
-  }
-  *error = field_error;
-  return false;
+  return params->validate(&field_error) || failInOption(field_error, kManoeuvreOptions, error);
 }
 
 /// The command-line option of each DrivingEnvelope field.
@@ -151,15 +159,7 @@ bool readEnvelope(const CommandLine& args, bool profile_drive, std::string* styl
       !args.number("max-lateral-accel-mps2", &envelope->max_lateral_accel_mps2, error))
     return false;
   std::string field_error;
-  if (envelope->validate(&field_error)) return true;
-  for (const auto& [field, option] : kEnvelopeOptions) {
-    if (field_error.rfind(std::string(field) + " =", 0) == 0) {
-      *error = std::string(option) + " out of range: " + field_error;
-      return false;
-    }
-  }
-  *error = field_error;
-  return false;
+  return envelope->validate(&field_error) || failInOption(field_error, kEnvelopeOptions, error);
 }
 
 /// The vehicle file's parameters with the command line's mass and drive layout; false with a message naming the
