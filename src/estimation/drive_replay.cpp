@@ -13,9 +13,6 @@ namespace tread_wear {
 
 namespace {
 
-/// A sample stamped within this of a step time counts as arrived: bag stamps have 1 ns resolution and step
-/// times carry floating-point rounding [s].
-constexpr double kArrivalTolerance_s = 1e-6;
 /// Share of the replayed time that may stay unintegrated (start-up, gaps) in a complete replay [-].
 constexpr double kMaxUnaccountedShare = 0.01;
 /// Wheel-steps between progress counter updates (keeps the shared counter out of the inner loop) [-].
@@ -137,14 +134,8 @@ void DriveReplay::runWheel(int wheel, std::atomic<std::uint64_t>* progress) {
   std::uint64_t unreported = 0;
   for (std::uint64_t k = 0; k < n_steps; ++k) {
     const double t = stepTime(k);
-    while (next_sample < run.samples.size() && run.samples[next_sample].t_s <= t + kArrivalTolerance_s) {
-      const InputSample& s = run.samples[next_sample++];
-      switch (s.kind) {
-        case InputKind::kLoad: run.inputs.setLoad(s.t_s, s.value[0]); break;
-        case InputKind::kSlip: run.inputs.setSlip(s.t_s, s.value[0], s.value[1], s.value[2]); break;
-        case InputKind::kSpeed: run.inputs.setSpeed(s.t_s, s.value[0]); break;
-        case InputKind::kTemperature: run.inputs.setTemperature(s.t_s, s.value[0]); break;
-      }
+    while (next_sample < run.samples.size() && run.samples[next_sample].t_s <= t + kInputStampTolerance_s) {
+      run.inputs.apply(run.samples[next_sample++]);
     }
     const WheelOutput& out = run.estimator->step(t, run.inputs, *run.model);
     StepRecord& r = run.records[k];

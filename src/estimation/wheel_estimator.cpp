@@ -1,6 +1,5 @@
 #include "tread_wear/estimation/wheel_estimator.h"
 
-#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -98,7 +97,6 @@ InputFault InputLimits::checkTemperature(double temperature_c) const {
 
 InputFault WheelInputs::record(InputKind kind, double t_s, InputFault fault) {
   Sample& s = samples_[static_cast<int>(kind)];
-  if (s.received > 0 && t_s - s.received_s > s.longest_gap_s) s.longest_gap_s = t_s - s.received_s;
   ++s.received;
   s.received_s = t_s;
   if (fault != InputFault::kNone) {
@@ -141,8 +139,14 @@ InputFault WheelInputs::setTemperature(double t_s, double temperature_c) {
   return record(InputKind::kTemperature, t_s, fault);
 }
 
-void WheelInputs::clearGaps() {
-  for (Sample& s : samples_) s.longest_gap_s = 0.0;
+InputFault WheelInputs::apply(const InputSample& s) {
+  switch (s.kind) {
+    case InputKind::kLoad: return setLoad(s.t_s, s.value[0]);
+    case InputKind::kSlip: return setSlip(s.t_s, s.value[0], s.value[1], s.value[2]);
+    case InputKind::kSpeed: return setSpeed(s.t_s, s.value[0]);
+    case InputKind::kTemperature: return setTemperature(s.t_s, s.value[0]);
+  }
+  return InputFault::kNone;
 }
 
 std::uint64_t WheelInputs::totalRejected() const {
@@ -187,17 +191,6 @@ void WheelEstimator::updateDepth() {
   output_.remaining_tread_depth_m = remaining > 0.0 ? remaining : 0.0;
 }
 
-namespace {
-
-double longestRequiredGap_s(const WheelInputs& inputs) {
-  double gap_s = 0.0;
-  for (InputKind kind : {InputKind::kLoad, InputKind::kSlip, InputKind::kSpeed})
-    gap_s = std::max(gap_s, inputs.sample(kind).longest_gap_s);
-  return gap_s;
-}
-
-}  // namespace
-
 void WheelEstimator::loseInterval(double dt, WheelStatus cause) {
   if (!(dt > 0.0)) return;  // a backward jump has no length to lose
   unaccounted_s_ += dt;
@@ -205,7 +198,7 @@ void WheelEstimator::loseInterval(double dt, WheelStatus cause) {
 }
 
 const WheelOutput& WheelEstimator::step(double now_s, const WheelInputs& inputs, const WearModel& model,
-                                        PatchFields* fields, JumpRule jump_rule) {
+                                        PatchFields* fields) {
   output_.evaluated = false;
   output_.integrated = false;
 
@@ -217,8 +210,7 @@ const WheelOutput& WheelEstimator::step(double now_s, const WheelInputs& inputs,
     if (dt < 0.0) {
       ++backward_jumps_;
       jumped = true;
-    } else if (jump_rule == JumpRule::kStepLength ? dt > params_.max_step_s
-                                                  : longestRequiredGap_s(inputs) > params_.max_step_s) {
+    } else if (dt > params_.max_step_s) {
       ++forward_jumps_;
       jumped = true;
     }
@@ -227,9 +219,7 @@ const WheelOutput& WheelEstimator::step(double now_s, const WheelInputs& inputs,
   last_time_s_ = now_s;
 
   // Sample the required inputs: each must exist, be valid and be fresh. An input stamped in the future (possible
-  // just after the clock jumped backwards) counts as stale; in input time (kInputGap) the step time may lag the
-  // latest input by up to max_step_s by design, and a gap longer than stale_timeout_s within the step is stale.
-  const double max_ahead_s = jump_rule == JumpRule::kInputGap ? params_.max_step_s : params_.stale_timeout_s;
+  // just after the clock jumped backwards) counts as stale.
   WheelStatus input_status = WheelStatus::kOk;
   for (InputKind kind : {InputKind::kLoad, InputKind::kSlip, InputKind::kSpeed}) {
     const WheelInputs::Sample& s = inputs.sample(kind);
@@ -238,8 +228,7 @@ const WheelOutput& WheelEstimator::step(double now_s, const WheelInputs& inputs,
       st = WheelStatus::kNoInput;
     } else if (!s.valid) {
       st = WheelStatus::kInvalidInput;
-    } else if (now_s - s.stamp_s > params_.stale_timeout_s || s.stamp_s - now_s > max_ahead_s ||
-               (jump_rule == JumpRule::kInputGap && s.longest_gap_s > params_.stale_timeout_s)) {
+    } else if (std::fabs(now_s - s.stamp_s) > params_.stale_timeout_s) {
       st = WheelStatus::kStaleInput;
     }
     // Report the most actionable problem: invalid data over stale data over missing data.

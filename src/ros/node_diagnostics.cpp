@@ -108,6 +108,7 @@ void NodeDiagnostics::diagnoseWheel(std::size_t index, double now_s, double wall
   stat.add("stale steps", s.stale_steps);
   stat.add("time jumps backward", s.backward_jumps);
   stat.add("time jumps forward", s.forward_jumps);
+  if (w.inputTime()) stat.add("steps past a lagging input", s.steps_past_lagging_input);
   stat.addf("unaccounted time [s]", "%.3f", s.unaccounted_time_s);
   const IntervalTime interval = takeInterval(s, &h.time);
   stat.addf("integrated since last report [s]", "%.3f", interval.integrated_s);

@@ -158,34 +158,33 @@ void TreadWearNode::subscribeInputs(WheelPipeline* w) {
   // Live, a backlog would be stamped late: keep only the newest few. Stamped samples of a fast replay arrive in
   // bursts: keep them all, since a dropped second of one input is a gap the wheel cannot integrate.
   const std::uint32_t queue_size = ros::Time::isSimTime() ? 1000 : 10;
-  auto arrival_s = [](const std_msgs::Header& header) {
-    return ros::Time::isSimTime() && !header.stamp.isZero() ? header.stamp.toSec() : ros::Time::now().toSec();
-  };
-  // After each sample: a throttled warning when it was rejected; in input time the wheel's step, which follows its
-  // samples (WheelPipeline::setInputTime).
-  auto afterSample = [this, w, name](InputKind kind, InputFault fault) {
+  // Each sample goes to the wheel (in input time it steps there), with a throttled warning when it was rejected.
+  auto receive = [this, w, name](const std_msgs::Header& header, InputKind kind, double v0, double v1 = 0.0,
+                                 double v2 = 0.0) {
+    InputSample sample;
+    sample.t_s = ros::Time::isSimTime() && !header.stamp.isZero() ? header.stamp.toSec() : ros::Time::now().toSec();
+    sample.kind = kind;
+    sample.value[0] = v0;
+    sample.value[1] = v1;
+    sample.value[2] = v2;
+    const InputFault fault = w->receive(sample, steadyNow_s(), stepSettings());
     if (fault != InputFault::kNone)
       ROS_WARN_THROTTLE(5.0, "wheel %s: rejected %s input (%s); the wheel is not evaluated until a valid one arrives",
                         name.c_str(), inputKindName(kind), inputFaultName(fault));
-    if (w->inputTime()) stepWheel(w, ros::Time::now().toSec());
   };
   input_subscribers_.push_back(nh_.subscribe<tread_wear::WheelLoad>(
-      w->config().load_topic, queue_size, [w, afterSample, arrival_s](const tread_wear::WheelLoad::ConstPtr& m) {
-        afterSample(InputKind::kLoad, w->setLoad(arrival_s(m->header), m->load_n));
-      }));
+      w->config().load_topic, queue_size,
+      [receive](const tread_wear::WheelLoad::ConstPtr& m) { receive(m->header, InputKind::kLoad, m->load_n); }));
   input_subscribers_.push_back(nh_.subscribe<tread_wear::WheelSlip>(
-      w->config().slip_topic, queue_size, [w, afterSample, arrival_s](const tread_wear::WheelSlip::ConstPtr& m) {
-        afterSample(InputKind::kSlip,
-                    w->setSlip(arrival_s(m->header), m->slip_angle_rad, m->slip_ratio, m->path_curvature_per_m));
+      w->config().slip_topic, queue_size, [receive](const tread_wear::WheelSlip::ConstPtr& m) {
+        receive(m->header, InputKind::kSlip, m->slip_angle_rad, m->slip_ratio, m->path_curvature_per_m);
       }));
   input_subscribers_.push_back(nh_.subscribe<tread_wear::WheelSpeed>(
-      w->config().speed_topic, queue_size, [w, afterSample, arrival_s](const tread_wear::WheelSpeed::ConstPtr& m) {
-        afterSample(InputKind::kSpeed, w->setSpeed(arrival_s(m->header), m->speed_mps));
-      }));
+      w->config().speed_topic, queue_size,
+      [receive](const tread_wear::WheelSpeed::ConstPtr& m) { receive(m->header, InputKind::kSpeed, m->speed_mps); }));
   input_subscribers_.push_back(nh_.subscribe<tread_wear::TreadTemperature>(
-      w->config().temperature_topic, queue_size,
-      [w, afterSample, arrival_s](const tread_wear::TreadTemperature::ConstPtr& m) {
-        afterSample(InputKind::kTemperature, w->setTemperature(arrival_s(m->header), m->temperature_c));
+      w->config().temperature_topic, queue_size, [receive](const tread_wear::TreadTemperature::ConstPtr& m) {
+        receive(m->header, InputKind::kTemperature, m->temperature_c);
       }));
 }
 
@@ -221,26 +220,28 @@ double TreadWearNode::evaluationDeadline_us() const {
   return budget_us > 0.0 ? budget_us : 1e6 * period_s / static_cast<double>(wheels_.size());
 }
 
-void TreadWearNode::stepWheel(WheelPipeline* w, double now_s) {
-  w->step(now_s, loop_status_.configuredPreset(), 1e-6 * loop_status_.budget_us.load(std::memory_order_relaxed),
-          evaluationDeadline_us(), loop_status_.period_s.load(std::memory_order_relaxed));
+WheelPipeline::StepSettings TreadWearNode::stepSettings() const {
+  WheelPipeline::StepSettings settings;
+  settings.preset = loop_status_.configuredPreset();
+  settings.budget_s = 1e-6 * loop_status_.budget_us.load(std::memory_order_relaxed);
+  settings.deadline_us = evaluationDeadline_us();
+  settings.period_s = loop_status_.period_s.load(std::memory_order_relaxed);
+  return settings;
 }
 
 void TreadWearNode::loop(const ros::TimerEvent&) {
   const double cycle_start = steadyNow_s();
   const ros::Time stamp = ros::Time::now();
   const double now_s = stamp.toSec();
-  const Preset preset = loop_status_.configuredPreset();
-  const double budget_us = loop_status_.budget_us.load(std::memory_order_relaxed);
-  const double period_s = loop_status_.period_s.load(std::memory_order_relaxed);
-  const double deadline_us = evaluationDeadline_us();
+  const WheelPipeline::StepSettings settings = stepSettings();
+  const Preset preset = settings.preset;
   std::uint64_t skipped = 0;
   const bool vehicle_slot = vehicle_publisher_->trylock();
   if (!vehicle_slot) ++skipped;
   double total_rate_s = 0.0, total_rate_m = 0.0, total_loss = 0.0;
   for (std::size_t i = 0; i < wheels_.size(); ++i) {
     WheelPipeline& w = *wheels_[i];
-    const WheelOutput out = w.inputTime() ? w.lastOutput() : w.step(now_s, preset, 1e-6 * budget_us, deadline_us);
+    const WheelOutput out = w.inputTime() ? w.lastOutput() : w.step(now_s, settings);
     RealtimePublisher<tread_wear::WheelWear>& publisher = *wheel_publishers_[i];
     if (publisher.trylock()) {
       w.fillMessage(stamp, preset, &publisher.msg());
@@ -266,7 +267,7 @@ void TreadWearNode::loop(const ros::TimerEvent&) {
   atomicMax(loop_status_.max_cycle_us, cycle_us);
   loop_status_.cycles.fetch_add(1, std::memory_order_relaxed);
   if (skipped > 0) loop_status_.skipped_publications.fetch_add(skipped, std::memory_order_relaxed);
-  if (cycle_us > 1e6 * period_s) loop_status_.cycle_overruns.fetch_add(1, std::memory_order_relaxed);
+  if (cycle_us > 1e6 * settings.period_s) loop_status_.cycle_overruns.fetch_add(1, std::memory_order_relaxed);
 }
 
 void TreadWearNode::publishMarkers(const ros::TimerEvent&) {

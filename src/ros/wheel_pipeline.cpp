@@ -35,24 +35,6 @@ void atomicMax(std::atomic<double>& a, double v) {
   }
 }
 
-/// Input times this close count as equal [s]: stamps have 1 ns resolution, differences of them carry rounding.
-constexpr double kStampTolerance_s = 1e-6;
-
-/// A wheel's input time (WheelPipeline::setInputTime): the earliest of the required inputs' latest samples, at
-/// most max_step_s [s] behind the latest; *any = false (and 0) before any required input arrived.
-double inputTime_s(const WheelInputs& inputs, double max_step_s, bool* any) {
-  double earliest_s = 0.0, latest_s = 0.0;
-  *any = false;
-  for (InputKind kind : {InputKind::kLoad, InputKind::kSlip, InputKind::kSpeed}) {
-    const WheelInputs::Sample& sample = inputs.sample(kind);
-    if (sample.received == 0) continue;
-    earliest_s = *any ? std::min(earliest_s, sample.received_s) : sample.received_s;
-    latest_s = *any ? std::max(latest_s, sample.received_s) : sample.received_s;
-    *any = true;
-  }
-  return std::max(earliest_s, latest_s - max_step_s);
-}
-
 }  // namespace
 
 std::uint8_t statusCode(WheelStatus status) { return static_cast<std::uint8_t>(status); }
@@ -112,48 +94,77 @@ InputFault WheelPipeline::setTemperature(double t_s, double temperature_c) {
   return inputs_.setTemperature(t_s, temperature_c);
 }
 
-const WheelOutput& WheelPipeline::step(double now_s, Preset preset, double budget_s, double deadline_us,
-                                       double input_step_s) {
+void WheelPipeline::setInputTime(bool on) {
+  std::lock_guard<std::mutex> lock(step_mutex_);
+  if (!on) {
+    timeline_.reset();
+    return;
+  }
+  InputTimelineParams params;
+  params.max_lead_s = estimator_params_.max_step_s;
+  timeline_ = std::make_unique<InputTimeline>(params);
+}
+
+InputFault WheelPipeline::receive(const InputSample& sample, double wall_s, const StepSettings& settings) {
+  InputFault fault;
+  {
+    std::lock_guard<std::mutex> lock(input_mutex_);
+    fault = inputs_.apply(sample);
+  }
+  std::lock_guard<std::mutex> step_lock(step_mutex_);
+  if (!timeline_) return fault;
+  double t_s = 0.0;
+  InputTimeline::Push pushed = timeline_->push(sample, wall_s);
+  if (pushed == InputTimeline::Push::kBackward) {
+    // A looping bag: finish the old time line, then start a new one (the estimator counts the backward jump).
+    while (timeline_->nextStep(wall_s, settings.period_s, true, &loop_inputs_, &t_s)) stepLocked(t_s, settings);
+    timeline_->restart();
+    pushed = timeline_->push(sample, wall_s);
+  }
+  // A full ring: release steps without the lagging input until there is room (each releases samples, so this ends).
+  while (pushed == InputTimeline::Push::kFull &&
+         timeline_->nextStep(wall_s, settings.period_s, true, &loop_inputs_, &t_s)) {
+    stepLocked(t_s, settings);
+    pushed = timeline_->push(sample, wall_s);
+  }
+  while (timeline_->nextStep(wall_s, settings.period_s, false, &loop_inputs_, &t_s)) stepLocked(t_s, settings);
+  return fault;
+}
+
+const WheelOutput& WheelPipeline::step(double now_s, const StepSettings& settings) {
   std::lock_guard<std::mutex> step_lock(step_mutex_);
   {
     std::lock_guard<std::mutex> lock(input_mutex_);
-    if (input_time_) {
-      bool any = false;
-      const double input_time_s = inputTime_s(inputs_, estimator_params_.max_step_s, &any);
-      if (any) now_s = input_time_s;
-      // Not a step further yet (or no new sample at all: the bag paused or ended): nothing to do.
-      const bool advanced = now_s > last_step_s_ && now_s - last_step_s_ > input_step_s - kStampTolerance_s;
-      if (stepped_ && now_s >= last_step_s_ && !advanced) return loop_output_;
-    }
     loop_inputs_ = inputs_;
-    if (input_time_) inputs_.clearGaps();  // the gaps of the samples since this step belong to the next one
   }
-  stepped_ = true;
-  last_step_s_ = now_s;
+  stepLocked(now_s, settings);
+  return loop_output_;
+}
+
+void WheelPipeline::stepLocked(double now_s, const StepSettings& settings) {
   // Live reconfiguration: plain stores in the model. Under a budget the model picks the finest preset whose
   // measured time fits (wear_model.h).
-  if (model_->wantedPreset() != preset) model_->setPreset(preset);
-  if (model_->timeBudget() != budget_s) model_->setTimeBudget(budget_s);
+  if (model_->wantedPreset() != settings.preset) model_->setPreset(settings.preset);
+  if (model_->timeBudget() != settings.budget_s) model_->setTimeBudget(settings.budget_s);
   double eval_us;
   {
     std::lock_guard<std::mutex> lock(state_mutex_);
     const double t0 = steadyNow_s();
-    loop_output_ = estimator_.step(now_s, loop_inputs_, *model_, nullptr,
-                                   input_time_ ? JumpRule::kInputGap : JumpRule::kStepLength);
+    loop_output_ = estimator_.step(now_s, loop_inputs_, *model_);
     eval_us = 1e6 * (steadyNow_s() - t0);
     step_inputs_ = loop_inputs_;
     step_time_s_ = now_s;
     loop_tire_id_ = tire_id_;
     loop_unaccounted_s_ = estimator_.unaccountedTime_s();
+    if (timeline_) steps_past_lagging_ = timeline_->stepsPastLaggingInput();
   }
   if (loop_output_.evaluated) {
     last_eval_us_.store(eval_us, std::memory_order_relaxed);
     atomicMax(max_eval_us_, eval_us);
-    if (eval_us > deadline_us) overruns_.fetch_add(1, std::memory_order_relaxed);
+    if (eval_us > settings.deadline_us) overruns_.fetch_add(1, std::memory_order_relaxed);
     active_preset_.store(static_cast<int>(model_->activePreset()), std::memory_order_relaxed);
     degraded_count_.store(model_->degradedCount(), std::memory_order_relaxed);
   }
-  return loop_output_;
 }
 
 WheelOutput WheelPipeline::lastOutput() const {
@@ -238,6 +249,7 @@ WheelSnapshot WheelPipeline::snapshot() const {
   for (int c = 0; c < kWheelStatusCount; ++c)
     s.unaccounted_by_cause_s[c] = estimator_.unaccountedTime_s(static_cast<WheelStatus>(c));
   s.integrated_time_s = estimator_.integratedTime_s();
+  s.steps_past_lagging_input = steps_past_lagging_;
   return s;
 }
 

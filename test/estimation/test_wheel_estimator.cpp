@@ -242,52 +242,6 @@ TEST_F(EstimatorTest, BackwardAndForwardJumpsKeepTheAccumulatedState) {
   EXPECT_NEAR(est_.unaccountedTime_s(), 100.0, 1e-9);
 }
 
-TEST_F(EstimatorTest, UnderTheInputGapRuleALongStepOverContinuousInputsIsIntegratedAndAGapIsAJump) {
-  // Samples every 20 ms; steps only at 0, 3 and 3.02 s (a node that stepped rarely): the inputs never paused.
-  WearResult direct;
-  ASSERT_EQ(model_.evaluate(rigPoint(), &direct), EvalStatus::kOk);
-  double t = 0.0;
-  feed(&in_, t);
-  est_.step(t, in_, model_, nullptr, JumpRule::kInputGap);
-  in_.clearGaps();
-  for (int k = 1; k <= 150; ++k) feed(&in_, t = 0.02 * k);
-  EXPECT_TRUE(est_.step(t, in_, model_, nullptr, JumpRule::kInputGap).integrated);
-  in_.clearGaps();
-  EXPECT_EQ(est_.forwardJumps(), 0u);
-  EXPECT_NEAR(est_.output().distance_m, 0.15 * 3.0, 1e-12);
-  EXPECT_NEAR(est_.output().accumulated_loss_kg, direct.wear_rate_kg_per_s * 3.0,
-              kRelTol * direct.wear_rate_kg_per_s * 3.0);
-  // The same 3 s step under the step-length rule is a jump.
-  WheelEstimator clocked{WheelEstimatorParams(), MaterialParams()};
-  clocked.step(0.0, in_, model_);
-  EXPECT_EQ(clocked.step(3.0, in_, model_).status, WheelStatus::kTimeJump);
-  // The speed pauses for 1.5 s (> max_step_s 1 s) while load and slip go on: a jump, however the steps fall.
-  for (int k = 1; k <= 75; ++k) {
-    t += 0.02;
-    in_.setLoad(t, 75.0);
-    in_.setSlip(t, -2.0 * units::kDegree, 0.0, 1.0 / 0.060);
-    if (k == 75) in_.setSpeed(t, 0.15);
-  }
-  EXPECT_EQ(est_.step(t, in_, model_, nullptr, JumpRule::kInputGap).status, WheelStatus::kTimeJump);
-  EXPECT_EQ(est_.forwardJumps(), 1u);
-  EXPECT_NEAR(est_.unaccountedTime_s(WheelStatus::kTimeJump), 1.5, 1e-9);
-  in_.clearGaps();
-  // A 0.7 s pause of the speed (> stale_timeout_s 0.5 s, < max_step_s): stale, although the step's own samples are
-  // fresh; the next step only opens a new interval.
-  const double before_s = t;
-  for (int k = 1; k <= 35; ++k) {
-    t += 0.02;
-    in_.setLoad(t, 75.0);
-    in_.setSlip(t, -2.0 * units::kDegree, 0.0, 1.0 / 0.060);
-    if (k == 35) in_.setSpeed(t, 0.15);
-  }
-  EXPECT_EQ(est_.step(t, in_, model_, nullptr, JumpRule::kInputGap).status, WheelStatus::kStaleInput);
-  in_.clearGaps();
-  feed(&in_, t + 0.02);
-  EXPECT_FALSE(est_.step(t + 0.02, in_, model_, nullptr, JumpRule::kInputGap).integrated);
-  EXPECT_NEAR(est_.unaccountedTime_s(WheelStatus::kStaleInput), t + 0.02 - before_s, 1e-9);
-}
-
 TEST_F(EstimatorTest, InputsStampedInTheFutureAfterABackwardJumpAreStale) {
   feed(&in_, 50.0);
   est_.step(50.0, in_, model_);

@@ -57,6 +57,13 @@ NodeConfig twoWheels() {
 }
 
 /// Feeds the rig point to a wheel at time t_s [s]; temperature_c is sent when finite.
+WheelPipeline::StepSettings stepSettings(Preset preset, double budget_s) {
+  WheelPipeline::StepSettings settings;
+  settings.preset = preset;
+  settings.budget_s = budget_s;
+  return settings;
+}
+
 void feed(WheelPipeline* w, double t_s, double temperature_c = std::numeric_limits<double>::quiet_NaN()) {
   w->setLoad(t_s, kLoad);
   w->setSlip(t_s, kSlipAngle, 0.0, kCurvature);
@@ -262,7 +269,7 @@ TEST(NodeConfig, TheSlowestAcceptedRateIntegratesALateStep) {
   for (int k = 0; k < 10; ++k) {
     t += k == 5 ? 2.0 * period - 1e-3 : period * 1.001;  // timer jitter, and one step almost a period late
     feed(&w, t);
-    w.step(t, Preset::kFast, 0.0, 1e9);
+    w.step(t, stepSettings(Preset::kFast, 0.0));
   }
   EXPECT_EQ(w.snapshot().forward_jumps, 0u);
   EXPECT_EQ(w.snapshot().unaccounted_time_s, 0.0) << "every interval after the first step is integrated";
@@ -271,30 +278,45 @@ TEST(NodeConfig, TheSlowestAcceptedRateIntegratesALateStep) {
 // ---------------------------------------------------------------------------------------------------------
 // Per-wheel pipeline.
 
-TEST(WheelPipeline, InInputTimeItStepsAtTheInputsStampsAndOnlyWhenTheyAdvance) {
+TEST(WheelPipeline, InInputTimeReceiveStepsOnTheInputsStampsWhateverTheirOrder) {
   const NodeConfig c = twoWheels();  // stale_timeout_s 0.3 s, max_step_s 0.6 s
   WheelPipeline w(c.wheels[0], loadTireParams(kTireFile), c);
   w.setInputTime(true);
-  // Before any input: at the node clock, waiting.
-  EXPECT_EQ(w.step(5.0, Preset::kFast, 0.0, 1e9).status, WheelStatus::kNoInput);
-  // Inputs stamped 10.0 to 12.0 s every 20 ms, the node stepping every 0.5 s of inputs at a clock far behind them
-  // (a clock published coarsely): every interval integrated, nothing stale, no jump.
-  for (int k = 500; k <= 600; ++k) {
-    feed(&w, 0.02 * k);
-    if (k % 25 == 0) w.step(1.0, Preset::kFast, 0.0, 1e9);
+  WheelPipeline::StepSettings settings = stepSettings(Preset::kFast, 0.0);
+  settings.period_s = 0.5;
+  // Inputs stamped 10.0 to 12.0 s every 20 ms; the speed arrives 10 samples (0.2 s) after the others, all within a
+  // few milliseconds of wall time: the wheel steps at 10.0, 10.5, ..., 12.0 s of the stamps once the speed is there.
+  auto sample = [](InputKind kind, int k, double v0, double v1 = 0.0, double v2 = 0.0) {
+    InputSample s;
+    s.t_s = 0.02 * k;
+    s.kind = kind;
+    s.value[0] = v0;
+    s.value[1] = v1;
+    s.value[2] = v2;
+    return s;
+  };
+  double wall_s = 0.0;
+  for (int k = 500; k <= 610; ++k) {
+    if (k <= 600) {
+      w.receive(sample(InputKind::kLoad, k, kLoad), wall_s += 1e-4, settings);
+      w.receive(sample(InputKind::kSlip, k, kSlipAngle, 0.0, kCurvature), wall_s += 1e-4, settings);
+    }
+    if (k >= 510) w.receive(sample(InputKind::kSpeed, k - 10, kSpeed), wall_s += 1e-4, settings);
+    if (k == 550) {
+      EXPECT_LE(w.snapshot().step_time_s, 0.02 * 540 + 1e-9) << "a step waits for the speed";
+    }
   }
-  WheelSnapshot s = w.snapshot();
-  EXPECT_DOUBLE_EQ(s.step_time_s, 12.0);
+  const WheelSnapshot s = w.snapshot();
+  EXPECT_NEAR(s.step_time_s, 12.0, 1e-9);
+  EXPECT_EQ(s.evaluations, 5u);
   EXPECT_EQ(s.stale_steps, 0u);
   EXPECT_EQ(s.forward_jumps, 0u);
+  EXPECT_EQ(s.steps_past_lagging_input, 0u);
   EXPECT_NEAR(s.integrated_time_s, 2.0, 1e-9);
-  EXPECT_NEAR(s.unaccounted_time_s, 5.0, 1e-9) << "the start, from the clock at 5 s to the first input at 10 s";
-  // No new sample: the step is skipped (no evaluation, nothing integrated or lost).
-  const std::uint64_t evaluations = s.evaluations;
-  w.step(2.0, Preset::kFast, 0.0, 1e9);
-  s = w.snapshot();
-  EXPECT_EQ(s.evaluations, evaluations);
-  EXPECT_NEAR(s.integrated_time_s + s.unaccounted_time_s, 7.0, 1e-9);
+  EXPECT_EQ(s.unaccounted_time_s, 0.0) << "the grid starts at the first sample: no start-up loss";
+  // A sample that is rejected is reported to the caller and counted, in input time as live.
+  EXPECT_EQ(w.receive(sample(InputKind::kLoad, 601, -5.0), wall_s, settings), InputFault::kNegativeLoad);
+  EXPECT_EQ(w.snapshot().inputs.sample(InputKind::kLoad).rejected, 1u);
 }
 
 TEST(WheelPipeline, TheOperatingPointKeepsAFreshTreadTemperature) {
@@ -325,9 +347,9 @@ TEST(WheelPipeline, EvaluateInputsIsTheLoopsEvaluation) {
   const NodeConfig c = twoWheels();
   WheelPipeline w(c.wheels[0], temperatureTire(), c);
   feed(&w, 1.0, 120.0);
-  w.step(1.0, Preset::kFast, 0.0, 1e9);
+  w.step(1.0, stepSettings(Preset::kFast, 0.0));
   feed(&w, 1.02, 120.0);
-  const WheelOutput& out = w.step(1.02, Preset::kFast, 0.0, 1e9);
+  const WheelOutput& out = w.step(1.02, stepSettings(Preset::kFast, 0.0));
   ASSERT_TRUE(out.evaluated);
   const WheelSnapshot s = w.snapshot();
   WearModelOptions options = c.model;
@@ -370,13 +392,13 @@ TEST(WheelPipeline, TheLoopStepAndMessageAllocateNothing) {
   tread_wear::WheelWear msg;
   reserveStrings(&msg);
   feed(&w, 1.0);
-  w.step(1.0, Preset::kFast, 0.0, 1e9);
+  w.step(1.0, stepSettings(Preset::kFast, 0.0));
   w.fillMessage(ros::Time(1.0), Preset::kFast, &msg);  // the first message sets the wheel's names
   const long before = t_allocations;
   for (int k = 1; k <= 20; ++k) {
     const double t = 1.0 + 0.02 * k;
     feed(&w, t);
-    w.step(t, k < 10 ? Preset::kFast : Preset::kStandard, k % 2 ? 0.0 : 1e-3, 1e9);
+    w.step(t, stepSettings(k < 10 ? Preset::kFast : Preset::kStandard, k % 2 ? 0.0 : 1e-3));
     w.fillMessage(ros::Time(t), Preset::kStandard, &msg);
   }
   EXPECT_EQ(t_allocations - before, 0);
@@ -477,7 +499,7 @@ TEST(EvaluateWear, EqualsTheLoopOnTheSameInputsAndOneStatusEnumeration) {
   std::vector<std::unique_ptr<WheelPipeline>> wheels;
   wheels.push_back(std::make_unique<WheelPipeline>(c.wheels[0], temperatureTire(), c));
   feed(wheels[0].get(), 1.0, 90.0);
-  const WheelOutput out = wheels[0]->step(1.0, Preset::kStandard, 0.0, 1e9);
+  const WheelOutput out = wheels[0]->step(1.0, stepSettings(Preset::kStandard, 0.0));
   tread_wear::EvaluateWear::Request req;
   tread_wear::EvaluateWear::Response res;
   req.wheel = "a";
@@ -664,7 +686,7 @@ TEST(NodeDiagnostics, AWheelReportsItsInputsAndRejects) {
   NodePersistence persistence("");
   NodeDiagnostics diagnostics(wheels, loop, persistence, reconfigure);
   feed(wheels[0].get(), 1.0);
-  wheels[0]->step(1.0, Preset::kFast, 0.0, 1e9);
+  wheels[0]->step(1.0, stepSettings(Preset::kFast, 0.0));
   diagnostic_updater::DiagnosticStatusWrapper first;
   diagnostics.diagnoseWheel(0, 1.25, 100.0, first);
   EXPECT_EQ(first.level, diagnostic_msgs::DiagnosticStatus::OK) << first.message;
@@ -698,7 +720,7 @@ TEST(NodeDiagnostics, TimeLostBetweenTwoReportsIsWarnAndAboveTheShareError) {
       const double t = 0.02 * k;
       if (!gap_a(t)) feed(wheels[0].get(), t - 0.01);
       feed(wheels[1].get(), t - 0.01);
-      for (const auto& w : wheels) w->step(t, Preset::kFast, 0.0, 1e9);
+      for (const auto& w : wheels) w->step(t, stepSettings(Preset::kFast, 0.0));
     }
   };
   struct Report {
@@ -820,7 +842,7 @@ TEST(WearMarkers, EachWheelIsDrawnFromItsLastStep) {
   const auto wheels = pipelines(c);
   WearMarkers markers(wheels);
   feed(wheels[0].get(), 1.0);
-  wheels[0]->step(1.0, Preset::kFast, 0.0, 1e9);  // wheel b: never evaluated
+  wheels[0]->step(1.0, stepSettings(Preset::kFast, 0.0));  // wheel b: never evaluated
   visualization_msgs::MarkerArray array;
   markers.build(ros::Time(1.0), &array);
   ASSERT_EQ(array.markers.size(), 4u);
@@ -830,7 +852,7 @@ TEST(WearMarkers, EachWheelIsDrawnFromItsLastStep) {
 
   // Wheel a off the ground: no patch, the label only.
   wheels[0]->setLoad(1.02, 0.0);
-  wheels[0]->step(1.02, Preset::kFast, 0.0, 1e9);
+  wheels[0]->step(1.02, stepSettings(Preset::kFast, 0.0));
   visualization_msgs::MarkerArray lifted;
   markers.build(ros::Time(1.02), &lifted);
   ASSERT_EQ(lifted.markers.size(), 2u);

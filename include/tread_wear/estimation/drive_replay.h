@@ -46,14 +46,6 @@ struct ReplayWheel {
   TireParams tire;
 };
 
-/// One input sample of one wheel.
-struct InputSample {
-  double t_s = 0.0;  ///< arrival time [s]
-  InputKind kind = InputKind::kLoad;
-  /// load_n | (slip_angle_rad, slip_ratio, path_curvature_per_m) | speed_mps | temperature_c
-  double value[3] = {0.0, 0.0, 0.0};
-};
-
 /// What one step of one wheel produced (the fields of WheelWear).
 struct StepRecord {
   double wear_rate_kg_per_m, wear_rate_kg_per_s, accumulated_loss_kg, tread_depth_loss_m, remaining_tread_depth_m;

@@ -21,9 +21,8 @@
 /// that samples both (the node's diagnostics) knows the share lost between two of its samples.
 /// The accumulated loss therefore never decreases and never absorbs a wrong time step.
 ///
-/// Time jumps: dt < 0 (a looping bag, a simulation time reset) or dt > max_step_s (a pause, a clock jump; with
-/// JumpRule::kInputGap, a gap longer than max_step_s in a required input instead) are counted and the step restarts
-/// the integration from the new time without touching the accumulated state.
+/// Time jumps: dt < 0 (a looping bag, a simulation time reset) or dt > max_step_s (a pause, a clock jump) are counted
+/// and the step restarts the integration from the new time without touching the accumulated state.
 ///
 /// Equivalent tread depth: d = loss / (rho w 2 pi R) (MaterialParams::massPerDepth_kg_per_m), the depth of a
 /// uniform tread layer of density rho, width w and radius R that has the accumulated mass.
@@ -78,6 +77,17 @@ struct InputLimits {
   InputFault checkTemperature(double temperature_c) const;
 };
 
+/// Input stamps this close count as equal [s]: stamps have 1 ns resolution, step times carry floating-point rounding.
+constexpr double kInputStampTolerance_s = 1e-6;
+
+/// One input sample of one wheel, as a bag or a subscriber delivers it.
+struct InputSample {
+  double t_s = 0.0;  ///< arrival time [s] (the node's clock, or under simulated time the message's stamp)
+  InputKind kind = InputKind::kLoad;
+  /// load_n | (slip_angle_rad, slip_ratio, path_curvature_per_m) | speed_mps | temperature_c
+  double value[3] = {0.0, 0.0, 0.0};
+};
+
 /// Latest accepted input samples of one wheel, with counters. Plain data: copyable without allocation.
 class WheelInputs {
  public:
@@ -89,12 +99,13 @@ class WheelInputs {
   InputFault setSlip(double t_s, double slip_angle_rad, double slip_ratio, double path_curvature_per_m);
   InputFault setSpeed(double t_s, double speed_mps);
   InputFault setTemperature(double t_s, double temperature_c);
+  /// The setter of the sample's kind.
+  InputFault apply(const InputSample& sample);
 
   struct Sample {
     bool valid = false;             ///< a sample was accepted and no invalid one came after it
     double stamp_s = 0.0;           ///< arrival time of the accepted sample [s]
     double received_s = 0.0;        ///< arrival time of the latest sample, accepted or rejected [s]
-    double longest_gap_s = 0.0;     ///< longest time between two consecutive samples since clearGaps() [s]
     std::uint64_t received = 0;     ///< samples received, valid or not [-]
     std::uint64_t rejected = 0;     ///< samples rejected [-]
     InputFault last_fault = InputFault::kNone;  ///< fault of the most recent rejected sample
@@ -103,8 +114,6 @@ class WheelInputs {
   /// Rejected samples of all inputs by fault class [-].
   std::uint64_t faultCount(InputFault fault) const { return fault_counts_[static_cast<int>(fault)]; }
   std::uint64_t totalRejected() const;
-  /// Restarts longest_gap_s of every input (the node in input time, after each copy for a step).
-  void clearGaps();
 
   double load_n() const { return load_n_; }                    ///< latest valid Fz [N]
   double slipAngle_rad() const { return slip_angle_rad_; }     ///< latest valid alpha [rad]
@@ -130,15 +139,6 @@ struct WheelEstimatorParams {
   double max_step_s = 1.0;       ///< a forward time step longer than this is a time jump [s], > stale_timeout_s
 
   bool validate(std::string* error) const;
-};
-
-/// What makes a forward step a time jump.
-enum class JumpRule : std::uint8_t {
-  kStepLength = 0,  ///< the step is longer than max_step_s (steps on a clock that runs with the inputs: live)
-  /// a required input had a gap longer than max_step_s between two samples (steps at the inputs' own times, which
-  /// may span many samples; a gap longer than stale_timeout_s within the step makes it stale, and an input may be
-  /// up to max_step_s, not stale_timeout_s, ahead of the step)
-  kInputGap = 1
 };
 
 /// Why a step did or did not integrate.
@@ -179,9 +179,8 @@ class WheelEstimator {
 
   /// Samples inputs at time now_s [s], evaluates the model and integrates. Allocates nothing.
   /// @param fields optional local fields, pre-sized for the model's active preset
-  /// @param jump_rule what counts as a forward time jump
   const WheelOutput& step(double now_s, const WheelInputs& inputs, const WearModel& model,
-                          PatchFields* fields = nullptr, JumpRule jump_rule = JumpRule::kStepLength);
+                          PatchFields* fields = nullptr);
 
   /// Sets the accumulators (restore from the state store); the next step starts a new integration interval.
   void restore(const WheelAccumulators& accumulators);

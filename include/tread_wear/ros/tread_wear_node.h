@@ -64,8 +64,8 @@ class TreadWearNode {
   void startPlanner();
   /// Deadline of one evaluation [us]: the budget when set, else the wheel's share of the update period.
   double evaluationDeadline_us() const;
-  /// A step of wheel w at now_s [s] with the loop's settings (in input time, from its subscribers).
-  void stepWheel(WheelPipeline* w, double now_s);
+  /// What a wheel's step needs besides its time, from the loop's live settings.
+  WheelPipeline::StepSettings stepSettings() const;
 
   ros::NodeHandle nh_, pnh_;
   NodeConfig config_;

@@ -7,12 +7,12 @@
 /// (test/ros/test_node_parts.cpp).
 ///
 /// Locks (each held for a copy or one step, never across calls):
-///   step mutex     step() <-> fillMessage()/lastOutput(): uncontended live (the loop does all three); in input time
-///                  (simulated time) the subscribers step and the loop publishes;
-///   input mutex    subscriber callbacks (set*) <-> the copy of the inputs in step();
+///   step mutex     step()/receive() <-> fillMessage()/lastOutput(): uncontended live (the loop does all three); in
+///                  input time (simulated time) the subscribers step (receive()) and the loop publishes;
+///   input mutex    subscriber callbacks (set*, receive) <-> the copy of the inputs in step();
 ///   state mutex    step() <-> services, diagnostics, persistence and markers (snapshots);
 ///   planner mutex  concurrent evaluate_wear calls on the planner model.
-/// step() and fillMessage() allocate nothing and never log or do I/O (tire ids fit preallocated strings).
+/// step(), receive() and fillMessage() allocate nothing and never log or do I/O (tire ids fit preallocated strings).
 
 #include <array>
 #include <atomic>
@@ -24,6 +24,7 @@
 
 #include "tread_wear/WheelWear.h"
 #include "tread_wear/WheelWearRate.h"
+#include "tread_wear/estimation/input_timeline.h"
 #include "tread_wear/estimation/wheel_estimator.h"
 #include "tread_wear/io/state_store.h"
 #include "tread_wear/io/wheel_config.h"
@@ -41,13 +42,14 @@ void reserveStrings(tread_wear::WheelWear* msg);
 struct WheelSnapshot {
   WheelInputs inputs;          ///< inputs as received (with their counters)
   WheelInputs step_inputs;     ///< inputs of the last loop step
-  double step_time_s = 0.0;    ///< time of the last loop step [s] (node clock; in input time, the inputs')
+  double step_time_s = 0.0;    ///< time of the last step [s] (node clock; in input time, the inputs')
   WheelOutput output;          ///< output of the last loop step
   std::string tire_id;
   std::uint64_t backward_jumps = 0, forward_jumps = 0, stale_steps = 0, evaluations = 0;
   double unaccounted_time_s = 0.0;  ///< elapsed time not integrated [s]
   std::array<double, kWheelStatusCount> unaccounted_by_cause_s{};  ///< the same by WheelStatus cause [s]
   double integrated_time_s = 0.0;   ///< elapsed time integrated [s]
+  std::uint64_t steps_past_lagging_input = 0;  ///< input time: steps released without a lagging input [-]
 };
 
 class WheelPipeline {
@@ -69,22 +71,27 @@ class WheelPipeline {
   InputFault setTemperature(double t_s, double temperature_c);
 
   /// Input time (the node under simulated time): steps follow the inputs' own stamps (their header stamps,
-  /// tread_wear_node.cpp), not the node clock. The wheel's input time is how far all its required inputs have
-  /// arrived (the earliest of their latest samples), but never more than max_step_s behind the latest one, so that an
-  /// input that stopped turns stale instead of holding the wheel back; before any required input, now_s. A step is
-  /// taken when that time has advanced by input_step_s since the last one (or went back), otherwise skipped;
-  /// the subscribers call step() after every sample, so the steps depend on the data only, not on when the node
-  /// gets to process them. A forward time jump is then a gap in an input (JumpRule::kInputGap). Set before the
-  /// inputs are subscribed.
-  void setInputTime(bool on) { input_time_ = on; }
-  bool inputTime() const { return input_time_; }
-  /// Step: one step at now_s [s] (or at the input time, above) with the inputs as they are, the live model set to
-  /// `preset` and budget_s [s] first; an evaluation longer than deadline_us [us] counts as an overrun. Steps are
-  /// serialized (the loop's clock steps, or the subscribers' input-time steps).
-  /// The result stays valid until the next step (use lastOutput() from another thread).
-  /// @param input_step_s in input time, the input time between two steps [s] (the update period)
-  const WheelOutput& step(double now_s, Preset preset, double budget_s, double deadline_us,
-                          double input_step_s = 0.0);
+  /// tread_wear_node.cpp), not the node clock. The subscribers hand every sample to receive(), which puts the
+  /// samples back in stamp order and steps the wheel on a grid of the update period in their time, each step once all
+  /// its inputs have arrived (InputTimeline): the steps and the wear then depend on the data only, not on when or in
+  /// which order the node gets the samples, and equal the offline replay's (DriveReplay). Set before the inputs are
+  /// subscribed; allocates the timeline's buffers.
+  void setInputTime(bool on);
+  bool inputTime() const { return timeline_ != nullptr; }
+  /// What a step needs besides its time.
+  struct StepSettings {
+    Preset preset = Preset::kStandard;  ///< live model preset
+    double budget_s = 0.0;              ///< live model time budget [s] (0: none)
+    double deadline_us = 1e9;           ///< an evaluation longer than this counts as an overrun [us]
+    double period_s = 0.01;             ///< input time between two steps [s] (the update period), > 0
+  };
+  /// Subscriber side in input time: receives a sample at wall time wall_s [s] (steady clock), as set*() does, and
+  /// takes every step it makes due. The sample's fault (kNone = accepted).
+  InputFault receive(const InputSample& sample, double wall_s, const StepSettings& settings);
+  /// Step (the loop, on the node clock): one step at now_s [s] with the inputs as they are, the live model set to the
+  /// settings' preset and budget first. Steps are serialized with receive()'s. The result stays valid until the
+  /// next step (use lastOutput() from another thread).
+  const WheelOutput& step(double now_s, const StepSettings& settings);
   /// Loop side: the last step as a wheel message stamped `stamp`; degraded = coarser than `configured`. Allocates
   /// nothing in a message prepared by reserveStrings().
   void fillMessage(const ros::Time& stamp, Preset configured, tread_wear::WheelWear* msg) const;
@@ -110,6 +117,9 @@ class WheelPipeline {
   long degradedEvaluations() const { return degraded_count_.load(std::memory_order_relaxed); }
 
  private:
+  /// One estimator step at now_s [s] on loop_inputs_ (the caller holds step_mutex_).
+  void stepLocked(double now_s, const StepSettings& settings);
+
   WheelConfig config_;
   TireParams tire_;
   WearModelOptions model_options_;
@@ -123,6 +133,7 @@ class WheelPipeline {
   WheelEstimator estimator_;          ///< guarded by state_mutex_
   WheelInputs step_inputs_;           ///< guarded by state_mutex_
   double step_time_s_ = 0.0;          ///< guarded by state_mutex_
+  std::uint64_t steps_past_lagging_ = 0;  ///< the timeline's count at the last step, guarded by state_mutex_
   std::string tire_id_;               ///< guarded by state_mutex_
   double reset_unix_s_ = 0.0;         ///< guarded by state_mutex_
 
@@ -132,9 +143,7 @@ class WheelPipeline {
   WheelOutput loop_output_;
   std::string loop_tire_id_;  ///< capacity kMaxTireIdLength: assignments never allocate
   double loop_unaccounted_s_ = 0.0;
-  bool stepped_ = false;      ///< a step was taken
-  double last_step_s_ = 0.0;  ///< its time [s]
-  bool input_time_ = false;   ///< set before any step (setInputTime)
+  std::unique_ptr<InputTimeline> timeline_;  ///< input time only (setInputTime)
 
   std::mutex planner_mutex_;
   std::unique_ptr<WearModel> planner_model_;  ///< guarded by planner_mutex_
