@@ -71,7 +71,7 @@ def losses(watch):
 
 def replay(args, rate, offline, env):
     launch = ["roslaunch", "tread_wear", "replay.launch", "bag:=" + args.bag, "rate:=%g" % rate,
-              "exit_at_end:=false", "max_rate:=1e9"]  # measures above the launch's own limit too
+              "exit_at_end:=false"]
     if args.clock_hz:
         launch.append("clock_hz:=%g" % args.clock_hz)
     log = open(os.path.join(env["ROS_HOME"], "replay_r%g.log" % rate), "w")

@@ -26,6 +26,7 @@ EXTERNAL_OWNERS = {
     "ros/": {"ros", "ros/bag"}, "rosbag/": {"ros", "ros/bag"}, "std_msgs/": {"ros", "ros/bag"},
     "geometry_msgs/": {"ros", "ros/bag"}, "visualization_msgs/": {"ros", "ros/bag"},
     "sensor_msgs/": {"ros", "ros/bag"}, "nav_msgs/": {"ros", "ros/bag"}, "tf2_msgs/": {"ros", "ros/bag"},
+    "std_srvs/": {"ros"},
     "diagnostic_updater/": {"ros"}, "diagnostic_msgs/": {"ros"}, "dynamic_reconfigure/": {"ros"},
     "tf2/": {"ros"}, "tf2_ros/": {"ros"}, "tf2_eigen/": {"ros"}, "roslz4/": {"ros/bag"}, "bzlib.h": {"ros/bag"}, "boost/thread": {"ros"},
     "yaml-cpp/": {"io"}, "nlohmann/": {"io", "report"}, "ceres/": {"fitting"},

@@ -13,7 +13,7 @@ TREAD_WEAR_APT_PACKAGES=(
   build-essential cmake pkg-config
   # ROS 1 (Debian's own packages; see docs/setup.md)
   ros-base-dev catkin ros-message-generation rosbash
-  ros-std-msgs ros-geometry-msgs ros-sensor-msgs ros-visualization-msgs libnav-msgs-dev libtf2-msgs-dev
+  ros-std-msgs libstd-srvs-dev ros-geometry-msgs ros-sensor-msgs ros-visualization-msgs libnav-msgs-dev libtf2-msgs-dev
   libtf2-ros-dev libtf2-eigen-dev librosbag-dev libroslz4-dev libbz2-dev librostest-dev python3-rostest
   libdiagnostic-updater-dev libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
   libmessage-filters-dev python3-rosbag python3-roslaunch

@@ -36,13 +36,22 @@ InputTimeline::Push InputTimeline::push(const InputSample& sample, double wall_s
   }
   bool any = false;
   for (const Ring& other : rings_) any = any || other.arrived;
-  if (!any) first_wall_s_ = wall_s;
   r.samples[(r.head + r.size) % r.samples.size()] = sample;
   ++r.size;
   r.arrived = true;
   r.last_stamp_s = sample.t_s;
-  r.last_wall_s = wall_s;
   newest_s_ = any ? std::max(newest_s_, sample.t_s) : sample.t_s;
+  // Lagging is observed here, at arrivals: a node that was not running (descheduled, stalled) saw nothing lag.
+  for (int k = 0; k < kInputKindCount; ++k) {
+    Ring& other = rings_[k];
+    const bool lagging = gating(static_cast<InputKind>(k)) &&
+                         (!other.arrived || other.last_stamp_s < newest_s_ - params_.max_lead_s);
+    if (!lagging) other.lagging = false;
+    else if (!other.lagging) {
+      other.lagging = true;
+      other.lagging_since_wall_s = wall_s;
+    }
+  }
   return Push::kTaken;
 }
 
@@ -55,8 +64,7 @@ double InputTimeline::horizon_s(double wall_s, bool flush, bool* forced) const {
     const Ring& r = rings_[k];
     const double latest_s = r.arrived ? r.last_stamp_s : -std::numeric_limits<double>::infinity();
     natural_s = std::min(natural_s, latest_s);
-    const double silent_s = wall_s - (r.arrived ? r.last_wall_s : first_wall_s_);
-    const bool given_up = latest_s < lead_limit_s && silent_s > params_.wait_s;
+    const bool given_up = r.lagging && wall_s - r.lagging_since_wall_s > params_.wait_s;
     waited_s = std::min(waited_s, given_up ? lead_limit_s : latest_s);
   }
   const double horizon = flush ? newest_s_ : waited_s;
@@ -103,7 +111,7 @@ bool InputTimeline::nextStep(double wall_s, double step_s, bool flush, WheelInpu
 void InputTimeline::restart() {
   for (Ring& r : rings_) {
     r.head = r.size = 0;
-    r.arrived = false;
+    r.arrived = r.lagging = false;
   }
   started_ = false;
 }

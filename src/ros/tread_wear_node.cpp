@@ -6,6 +6,9 @@
 #include <chrono>
 #include <cstdint>
 
+#include <std_srvs/SetBool.h>
+
+#include "tread_wear/InputProgress.h"
 #include "tread_wear/TreadTemperature.h"
 #include "tread_wear/WheelLoad.h"
 #include "tread_wear/WheelSlip.h"
@@ -99,10 +102,25 @@ bool TreadWearNode::initialize() {
                                       [this](const ros::WallTimerEvent&) { persistence_->save(wheels_, "periodic"); });
   broadcastWheelFrames();
 
-  // The update loop on its own queue and thread.
+  // The update loop on its own queue and thread. Live, it steps every wheel on the node clock. Under simulated time
+  // the wheels step on their inputs' stamps (WheelPipeline::receive) and the loop only publishes, at the update rate
+  // of wall time: its load does not grow with the play rate, and the last steps are published after the bag (and
+  // with it the clock) has stopped.
   ros::NodeHandle loop_nh(nh_);
   loop_nh.setCallbackQueue(&loop_queue_);
-  loop_timer_ = loop_nh.createTimer(ros::Duration(loop_status_.period_s.load()), &TreadWearNode::loop, this);
+  if (ros::Time::isSimTime()) {
+    loop_wall_timer_ = loop_nh.createWallTimer(ros::WallDuration(loop_status_.period_s.load()),
+                                               [this](const ros::WallTimerEvent&) { loop(); });
+    progress_publisher_ = nh_.advertise<tread_wear::InputProgress>("input_progress", 10);
+    pnh_.param<std::string>("replay_resume_service", resume_service_, "");
+    progress_start_ = connected_since_ = ros::WallTime::now();
+    start_timer_ = nh_.createWallTimer(ros::WallDuration(0.05), [this](const ros::WallTimerEvent&) { startReplay(); });
+    progress_timer_ = loop_nh.createWallTimer(ros::WallDuration(kProgressPeriod_s),
+                                              [this](const ros::WallTimerEvent&) { publishProgress(); });
+  } else {
+    loop_timer_ = loop_nh.createTimer(ros::Duration(loop_status_.period_s.load()),
+                                      [this](const ros::TimerEvent&) { loop(); });
+  }
   loop_running_ = true;
   loop_thread_ = std::thread([this] {
     while (loop_running_ && ros::ok()) loop_queue_.callAvailable(ros::WallDuration(0.05));
@@ -156,8 +174,9 @@ void TreadWearNode::subscribeInputs(WheelPipeline* w) {
   // header stamp (when set), which the wheel's steps then follow (WheelPipeline::setInputTime, docs/node.md).
   w->setInputTime(ros::Time::isSimTime());
   // Live, a backlog would be stamped late: keep only the newest few. Stamped samples of a fast replay arrive in
-  // bursts: keep them all, since a dropped second of one input is a gap the wheel cannot integrate.
-  const std::uint32_t queue_size = ros::Time::isSimTime() ? 1000 : 10;
+  // bursts and may wait behind other topics' callbacks: keep them (10,000 per input: 2 s of wall time for a 50 Hz
+  // input at rate 100), since a dropped second of one input is a gap the wheel cannot integrate.
+  const std::uint32_t queue_size = ros::Time::isSimTime() ? 10000 : 10;
   // Each sample goes to the wheel (in input time it steps there), with a throttled warning when it was rejected.
   auto receive = [this, w, name](const std_msgs::Header& header, InputKind kind, double v0, double v1 = 0.0,
                                  double v2 = 0.0) {
@@ -168,6 +187,7 @@ void TreadWearNode::subscribeInputs(WheelPipeline* w) {
     sample.value[1] = v1;
     sample.value[2] = v2;
     const InputFault fault = w->receive(sample, steadyNow_s(), stepSettings());
+    last_input_stamp_s_.store(sample.t_s, std::memory_order_relaxed);
     if (fault != InputFault::kNone)
       ROS_WARN_THROTTLE(5.0, "wheel %s: rejected %s input (%s); the wheel is not evaluated until a valid one arrives",
                         name.c_str(), inputKindName(kind), inputFaultName(fault));
@@ -182,6 +202,7 @@ void TreadWearNode::subscribeInputs(WheelPipeline* w) {
   input_subscribers_.push_back(nh_.subscribe<tread_wear::WheelSpeed>(
       w->config().speed_topic, queue_size,
       [receive](const tread_wear::WheelSpeed::ConstPtr& m) { receive(m->header, InputKind::kSpeed, m->speed_mps); }));
+  required_subscribers_.insert(required_subscribers_.end(), input_subscribers_.end() - 3, input_subscribers_.end());
   input_subscribers_.push_back(nh_.subscribe<tread_wear::TreadTemperature>(
       w->config().temperature_topic, queue_size, [receive](const tread_wear::TreadTemperature::ConstPtr& m) {
         receive(m->header, InputKind::kTemperature, m->temperature_c);
@@ -209,8 +230,10 @@ void TreadWearNode::broadcastWheelFrames() {
 
 void TreadWearNode::reconfigure(tread_wear::TreadWearConfig& c) {
   const double period_s = loop_status_.period_s.load();
-  if (reconfigure_->apply(&c) && loop_status_.period_s.load() != period_s)
-    loop_timer_.setPeriod(ros::Duration(loop_status_.period_s.load()));
+  if (reconfigure_->apply(&c) && loop_status_.period_s.load() != period_s) {
+    if (loop_wall_timer_.isValid()) loop_wall_timer_.setPeriod(ros::WallDuration(loop_status_.period_s.load()));
+    if (loop_timer_.isValid()) loop_timer_.setPeriod(ros::Duration(loop_status_.period_s.load()));
+  }
 }
 
 double TreadWearNode::evaluationDeadline_us() const {
@@ -229,7 +252,7 @@ WheelPipeline::StepSettings TreadWearNode::stepSettings() const {
   return settings;
 }
 
-void TreadWearNode::loop(const ros::TimerEvent&) {
+void TreadWearNode::loop() {
   const double cycle_start = steadyNow_s();
   const ros::Time stamp = ros::Time::now();
   const double now_s = stamp.toSec();
@@ -270,6 +293,40 @@ void TreadWearNode::loop(const ros::TimerEvent&) {
   if (cycle_us > 1e6 * settings.period_s) loop_status_.cycle_overruns.fetch_add(1, std::memory_order_relaxed);
 }
 
+void TreadWearNode::startReplay() {
+  // Once every required input has been connected to a publisher for kConnectSettle_s (the publisher side registers a
+  // link a moment after the subscriber side), or kConnectWait_s has passed (a bag without some wheel's topics):
+  // input_progress starts and a paused player is resumed, so that no sample is published before the node can hear it.
+  const ros::WallTime now = ros::WallTime::now();
+  int connected = 0;
+  for (const ros::Subscriber& sub : required_subscribers_) connected += sub.getNumPublishers() > 0;
+  if (connected < static_cast<int>(required_subscribers_.size())) connected_since_ = now;
+  const bool waited_out = now - progress_start_ >= ros::WallDuration(kConnectWait_s);
+  if (now - connected_since_ < ros::WallDuration(kConnectSettle_s) && !waited_out) return;
+  start_timer_.stop();
+  inputs_connected_ = true;
+  if (waited_out)
+    ROS_WARN("replay: only %d of %zu required inputs have a publisher after %.0f s; starting without the others",
+             connected, required_subscribers_.size(), kConnectWait_s);
+  if (resume_service_.empty()) return;
+  std_srvs::SetBool resume;
+  resume.request.data = false;  // pause = false
+  if (!ros::service::call(resume_service_, resume))
+    ROS_ERROR("replay: cannot resume the player through %s; the bag stays paused", resume_service_.c_str());
+}
+
+void TreadWearNode::publishProgress() {
+  if (!inputs_connected_.load()) return;
+  // With nothing queued, every sample that has arrived is processed and the node is as far as the clock; else as far
+  // as the last sample processed (subscribers are served in arrival order).
+  double progress_s = ros::Time::now().toSec();
+  if (!ros::getGlobalCallbackQueue()->isEmpty())
+    progress_s = std::min(progress_s, last_input_stamp_s_.load(std::memory_order_relaxed));
+  tread_wear::InputProgress msg;
+  msg.header.stamp.fromSec(progress_s);
+  progress_publisher_.publish(msg);
+}
+
 void TreadWearNode::publishMarkers(const ros::TimerEvent&) {
   if (marker_publisher_.getNumSubscribers() == 0) return;
   visualization_msgs::MarkerArray array;
@@ -281,6 +338,8 @@ void TreadWearNode::shutdown() {
   if (shut_down_.exchange(true)) return;
   loop_running_ = false;
   loop_timer_.stop();
+  loop_wall_timer_.stop();
+  progress_timer_.stop();
   if (loop_thread_.joinable()) loop_thread_.join();
   save_timer_.stop();
   diagnostics_timer_.stop();

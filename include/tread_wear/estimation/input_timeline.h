@@ -15,9 +15,12 @@
 ///   - step t_k is released once every gating input has a sample stamped at or after t_k (the required inputs always,
 ///     the tread temperature once it has arrived): then every buffered sample stamped <= t_k is applied to the wheel's
 ///     WheelInputs, in order per input, exactly as DriveReplay applies them before its step t_k;
-///   - an input that lags the newest sample by more than max_lead_s and has not arrived for wait_s of wall time is no
-///     longer waited for: steps are released up to max_lead_s behind the newest sample, and WheelEstimator reads
-///     that input as stale there (lost, counted, reported), never as a silent hold;
+///   - an input seen lagging the newest sample by more than max_lead_s (or not yet seen) at every arrival for wait_s
+///     of wall time is no longer waited for: steps are released up to max_lead_s behind the newest sample, and
+///     WheelEstimator reads that input as stale there (lost, counted, reported), never as a silent hold. Lagging is
+///     judged at arrivals, so a node that was not running (descheduled on a busy machine) did not see anything lag;
+///     and the samples of one topic often arrive in runs of many (one connection per topic, read in chunks), so the
+///     wait is in wall time, not in stamps;
 ///   - a full ring forces the next step (flush), never a dropped sample.
 /// Allocates only at construction; push() and nextStep() are O(1) per sample. Not thread-safe (the caller locks).
 
@@ -35,7 +38,7 @@ struct InputTimelineParams {
   /// stamp lead of the newest sample beyond which a silent input is no longer waited for [s], > 0 (the node: its
   /// max_step_s)
   double max_lead_s = 1.0;
-  double wait_s = 0.5;      ///< wall time a lagging input is waited for [s], >= 0
+  double wait_s = 2.0;      ///< wall time a lagging input is waited for [s], >= 0
   std::size_t capacity = 8192;  ///< samples buffered per input [-], >= 2
 
   bool validate(std::string* error) const;
@@ -75,7 +78,8 @@ class InputTimeline {
     std::size_t head = 0, size = 0;
     bool arrived = false;     ///< a sample arrived since construction or restart()
     double last_stamp_s = 0.0;  ///< stamp of the latest sample pushed [s]
-    double last_wall_s = 0.0;   ///< wall time it arrived [s]
+    bool lagging = false;       ///< gating and more than max_lead_s behind the newest sample (or never arrived)
+    double lagging_since_wall_s = 0.0;  ///< wall time of the arrival that first saw it lagging [s]
   };
   bool gating(InputKind kind) const;
   /// The latest grid time whose samples have all arrived (or are no longer waited for) [s]; *forced when that took
@@ -88,7 +92,6 @@ class InputTimeline {
   double t0_s_ = 0.0;           ///< its first point [s]
   double step_s_ = 0.0;         ///< its spacing [s]
   std::uint64_t next_k_ = 0;    ///< index of the next step
-  double first_wall_s_ = 0.0;   ///< wall time of the grid's first sample [s] (waiting for inputs never seen)
   double newest_s_ = 0.0;       ///< newest stamp pushed since the grid started [s]
   std::uint64_t steps_past_lagging_ = 0, full_rings_ = 0;
 };

@@ -57,7 +57,13 @@ class TreadWearNode {
 
  private:
   void subscribeInputs(WheelPipeline* wheel);
-  void loop(const ros::TimerEvent& event);
+  void loop();
+  /// Simulated time: how far the inputs are processed, on input_progress (InputProgress.msg), which replay.launch's
+  /// rosbag play follows (--rate-control-topic) so that a replay never runs ahead of the node.
+  void publishProgress();
+  /// Simulated time, until the replay starts: waits for the required inputs' publishers, then starts input_progress
+  /// and resumes the paused player (~replay_resume_service, launch/replay.launch).
+  void startReplay();
   void publishMarkers(const ros::TimerEvent& event);
   void reconfigure(tread_wear::TreadWearConfig& config);
   void broadcastWheelFrames();
@@ -78,13 +84,28 @@ class TreadWearNode {
 
   // Update loop: its queue, timer and thread, and the messages it fills (one per wheel, one for the vehicle).
   ros::CallbackQueue loop_queue_;
-  ros::Timer loop_timer_;
+  ros::Timer loop_timer_;           ///< live: the update loop on the node clock
+  ros::WallTimer loop_wall_timer_;  ///< simulated time: the publication loop on wall time
+  /// Simulated time: input_progress every kProgressPeriod_s of wall time [s] (often enough that rosbag play, which
+  /// holds back while the progress is more than its rate-control delay behind, rarely waits on the timer itself).
+  static constexpr double kProgressPeriod_s = 0.01;
+  ros::WallTimer progress_timer_;
+  ros::Publisher progress_publisher_;
+  /// The longest wait for the required inputs' publishers before the replay starts anyway, and how long they must
+  /// all have been connected before it starts [s of wall time].
+  static constexpr double kConnectWait_s = 10.0, kConnectSettle_s = 0.5;
+  ros::WallTimer start_timer_;
+  ros::WallTime progress_start_, connected_since_;
+  std::atomic<bool> inputs_connected_{false};  ///< the replay has started (startReplay)
+  std::string resume_service_;  ///< the player's pause service (~replay_resume_service), "" for none
+  std::atomic<double> last_input_stamp_s_{0.0};  ///< stamp of the last input sample processed [s]
   std::thread loop_thread_;
   std::atomic<bool> loop_running_{false};
   std::vector<std::unique_ptr<RealtimePublisher<tread_wear::WheelWear>>> wheel_publishers_;
   std::unique_ptr<RealtimePublisher<tread_wear::VehicleWear>> vehicle_publisher_;
 
   std::vector<ros::Subscriber> input_subscribers_;
+  std::vector<ros::Subscriber> required_subscribers_;  ///< load, slip and speed of every wheel
   ros::ServiceServer evaluate_service_, reset_service_;
   ros::WallTimer save_timer_, diagnostics_timer_;
   ros::Timer marker_timer_;
