@@ -4,7 +4,7 @@
 
 For each play rate R: a private master, `roslaunch tread_wear replay.launch bag:=BAG rate:=R exit_at_end:=false`
 (its default clock rate unless --clock-hz is given), the node's /diagnostics followed until the bag has ended
-(the clock stood still for 2 s) and one more report came,
+(the clock reached the bag's end and stood still for 2 s) and one more report came,
 then one markdown table row: the /clock rate received, live vs offline loss per wheel, stale steps, time jumps,
 unaccounted time, the achieved play rate (bag span over the wall time between the first and the last clock change),
 and how many wheel reports (after the loss began) and vehicle reports were not OK.
@@ -78,12 +78,14 @@ def replay(args, rate, offline, env):
     proc = subprocess.Popen(launch, env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
     watch = Watch()
     try:
-        # Until the bag has ended: the clock ran and then stood still for 2 s, and a report came after that.
-        deadline = time.monotonic() + 60.0 + 2.0 * offline["duration_s"] / rate
+        # Until the bag has ended: the clock reached its end (it also stands still while rosbag play waits for the
+        # node) and stood still for 2 s, and a report came after that.
+        deadline = time.monotonic() + 60.0 + 2.0 * offline["duration_s"] / min(rate, 10.0)
         while time.monotonic() < deadline:
             time.sleep(0.5)
             now = time.monotonic()
-            if watch.last_clock_wall is not None and now - watch.last_clock_wall > 2.0 and \
+            if watch.last_clock is not None and watch.last_clock.to_sec() >= offline["end_s"] - 0.5 and \
+                    now - watch.last_clock_wall > 2.0 and \
                     watch.last_report_wall is not None and watch.last_report_wall > watch.last_clock_wall + 1.0:
                 break
         else:
@@ -95,6 +97,14 @@ def replay(args, rate, offline, env):
         proc.wait(timeout=30)
         log.close()
     return watch
+
+
+def offline_losses(build, bag, rate_hz):
+    """The offline replay's loss per wheel at the live wheels' update rate (tread_wear_replay --rate-hz)."""
+    summary = build / "ros_home" / ("offline_%g_hz.json" % rate_hz)
+    subprocess.run([str(build / "devel/lib/tread_wear/tread_wear_replay"), bag, "--quiet", "--rate-hz", "%g" % rate_hz,
+                    "--summary", str(summary)], check=True, stdout=subprocess.DEVNULL)
+    return {w["name"]: w["mass_loss_kg"] for w in json.load(open(summary))["wheels"]}
 
 
 def main():
@@ -118,10 +128,10 @@ def main():
     try:
         time.sleep(3.0)
         rospy.init_node("replay_live_vs_offline", anonymous=True, disable_signals=True)
-        print("| R | /clock received [Hz] | live vs offline loss per wheel | stale steps | time jumps fwd / back "
-              "| unaccounted [s] "
-              "| achieved rate | non-OK wheel / vehicle reports |")
-        print("|---|---|---|---|---|---|---|---|")
+        print("| R | update rate [Hz] | /clock received [Hz] | live vs offline (100 Hz) loss per wheel "
+              "| live vs offline at the same update rate, worst wheel | stale steps | steps past a lagging input "
+              "| time jumps fwd / back | unaccounted [s] | achieved rate | non-OK wheel / vehicle reports |")
+        print("|---|---|---|---|---|---|---|---|---|---|---|")
         for rate in args.rates:
             watch = replay(args, rate, offline, env)
             if not watch.wheels:
@@ -129,15 +139,20 @@ def main():
                 continue
             live = losses(watch)
             deviation = ["%+.2f %%" % (100.0 * (live[n] / reference[n] - 1.0)) for n in reference if n in live]
+            update_hz = min(100.0, max(5.0, 500.0 / rate))  # replay.launch's default update_rate_hz
+            same_rate = offline_losses(build, args.bag, update_hz)
+            worst_same = max((abs(live[n] / same_rate[n] - 1.0) for n in same_rate if n in live), default=float("nan"))
             stale = max(int(v["stale steps"]) for v in watch.wheels.values())
+            past = max(int(v.get("steps past a lagging input", 0)) for v in watch.wheels.values())
             jumps = "%d / %d" % (max(int(v["time jumps forward"]) for v in watch.wheels.values()),
                                  max(int(v["time jumps backward"]) for v in watch.wheels.values()))
             unaccounted = max(float(v["unaccounted time [s]"]) for v in watch.wheels.values())
             span = (watch.last_clock_wall or 0.0) - (watch.first_clock_wall or 0.0)
             achieved = offline["duration_s"] / span if span > 0.0 else 0.0
             clock_hz = watch.clock_messages / span if span > 0.0 else 0.0
-            print("| %g | %.0f | %s | %d | %s | %.2f | %.0f | %d / %d |" % (
-                rate, clock_hz, ", ".join(deviation), stale, jumps, unaccounted, achieved,
+            print("| %g | %g | %.0f | %s | %.4f %% | %d | %d | %s | %.2f | %.0f | %d / %d |" % (
+                rate, update_hz, clock_hz, ", ".join(deviation), 100.0 * worst_same, stale, past, jumps, unaccounted,
+                achieved,
                 watch.not_ok_wheel_reports, watch.not_ok_vehicle_reports), flush=True)
     finally:
         rospy.signal_shutdown("done")

@@ -45,12 +45,3 @@ tread_wear_add_gtest(test_vehicle_inputs_parts ${PROJECT_SOURCE_DIR}/test/ros/te
                      ${PROJECT_NAME}_ros)
 # The planner at the vehicle level (evaluate_trajectories, wear_map) without a master.
 tread_wear_add_gtest(test_node_planner ${PROJECT_SOURCE_DIR}/test/ros/test_node_planner.cpp ${PROJECT_NAME}_ros)
-
-# A replay at 50x needs both cores: beside another test, the node's input topics are served unevenly and a lagging
-# input reads as stale (docs/node.md, "Replaying fast"). ctest runs it alone.
-get_property(${PROJECT_NAME}_all_tests DIRECTORY ${PROJECT_SOURCE_DIR} PROPERTY TESTS)
-foreach(test_name IN LISTS ${PROJECT_NAME}_all_tests)
-  if(test_name MATCHES "fast_replay")
-    set_tests_properties(${test_name} PROPERTIES RUN_SERIAL TRUE)
-  endif()
-endforeach()

@@ -279,7 +279,10 @@ void TreadWearNode::loop() {
   }
   if (vehicle_slot) {
     tread_wear::VehicleWear& v = vehicle_publisher_->msg();
-    v.header.stamp = stamp;
+    // As of the wheel that has stepped least far (live, they all carry `stamp`).
+    v.header.stamp = v.wheels.empty() ? stamp : v.wheels.front().header.stamp;
+    for (const tread_wear::WheelWear& wheel : v.wheels)
+      if (wheel.header.stamp < v.header.stamp) v.header.stamp = wheel.header.stamp;
     v.total_wear_rate_kg_per_s = total_rate_s;
     v.total_wear_rate_kg_per_m = total_rate_m;
     v.total_accumulated_loss_kg = total_loss;

@@ -146,6 +146,8 @@ void WheelPipeline::stepLocked(double now_s, const StepSettings& settings) {
   // measured time fits (wear_model.h).
   if (model_->wantedPreset() != settings.preset) model_->setPreset(settings.preset);
   if (model_->timeBudget() != settings.budget_s) model_->setTimeBudget(settings.budget_s);
+  loop_stepped_ = true;
+  loop_step_time_s_ = now_s;
   double eval_us;
   {
     std::lock_guard<std::mutex> lock(state_mutex_);
@@ -175,7 +177,8 @@ WheelOutput WheelPipeline::lastOutput() const {
 void WheelPipeline::fillMessage(const ros::Time& stamp, Preset configured, tread_wear::WheelWear* m) const {
   std::lock_guard<std::mutex> lock(step_mutex_);
   const WheelOutput& out = loop_output_;
-  m->header.stamp = stamp;
+  // In input time the estimate is as of the last step's input time, which the node clock need not have reached.
+  m->header.stamp = timeline_ && loop_stepped_ ? ros::Time(loop_step_time_s_) : stamp;
   if (m->wheel != config_.name) {  // first message only (capacity reserved by the caller)
     m->header.frame_id = config_.frame_id;
     m->wheel = config_.name;

@@ -92,8 +92,8 @@ class WheelPipeline {
   /// settings' preset and budget first. Steps are serialized with receive()'s. The result stays valid until the
   /// next step (use lastOutput() from another thread).
   const WheelOutput& step(double now_s, const StepSettings& settings);
-  /// Loop side: the last step as a wheel message stamped `stamp`; degraded = coarser than `configured`. Allocates
-  /// nothing in a message prepared by reserveStrings().
+  /// Loop side: the last step as a wheel message stamped `stamp` (in input time, with the step's own time once there
+  /// is one); degraded = coarser than `configured`. Allocates nothing in a message prepared by reserveStrings().
   void fillMessage(const ros::Time& stamp, Preset configured, tread_wear::WheelWear* msg) const;
   /// Loop side: a copy of the last step's output (input time: the subscribers step). Allocates nothing.
   WheelOutput lastOutput() const;
@@ -143,6 +143,8 @@ class WheelPipeline {
   WheelOutput loop_output_;
   std::string loop_tire_id_;  ///< capacity kMaxTireIdLength: assignments never allocate
   double loop_unaccounted_s_ = 0.0;
+  bool loop_stepped_ = false;       ///< a step was taken
+  double loop_step_time_s_ = 0.0;   ///< its time [s]
   std::unique_ptr<InputTimeline> timeline_;  ///< input time only (setInputTime)
 
   std::mutex planner_mutex_;
