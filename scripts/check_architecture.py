@@ -30,10 +30,10 @@ EXTERNAL_OWNERS = {
     "tf2/": {"ros"}, "tf2_ros/": {"ros"}, "tf2_eigen/": {"ros"}, "roslz4/": {"ros/bag"}, "bzlib.h": {"ros/bag"}, "boost/thread": {"ros"},
     "yaml-cpp/": {"io"}, "nlohmann/": {"io", "report"}, "ceres/": {"fitting"},
     "cvode/": {"reference"}, "nvector/": {"reference"}, "sunlinsol/": {"reference"}, "sunmatrix/": {"reference"},
-    "sundials/": {"reference"}, "boost/math": {"diagnosis"},
+    "sundials/": {"reference"}, "boost/math": {"diagnosis"}, "muParser": {"diagnosis"},
 }
 # Libraries whose owners keep them out of their public headers, and the namespace that shows a use of each.
-PRIVATE_EXTERNALS = {"yaml-cpp/": "YAML::", "nlohmann/": "nlohmann::"}
+PRIVATE_EXTERNALS = {"yaml-cpp/": "YAML::", "nlohmann/": "nlohmann::", "muParser": "mu::"}
 COMMENT = re.compile(r"//[^\n]*|/\*.*?\*/", re.S)
 
 
