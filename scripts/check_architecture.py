@@ -88,7 +88,8 @@ def main():
         text = path.read_text()
         code = COMMENT.sub("", text)
         for prefix, token in PRIVATE_EXTERNALS.items():
-            if token in code and own not in EXTERNAL_OWNERS[prefix]:
+            # The namespace as a whole word: sensor_msgs::Imu:: is no use of mu::.
+            if re.search(r"(?<![\w:])" + re.escape(token), code) and own not in EXTERNAL_OWNERS[prefix]:
                 problems.append(f"{rel}: uses {token}, which belongs to "
                                 f"{sorted(EXTERNAL_OWNERS[prefix])} (let them build or parse the document)")
         if own is None:
