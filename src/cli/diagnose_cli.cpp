@@ -62,7 +62,8 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
   for (const std::string& name : splitList(a.get("candidates"))) {
     Term t;
     if (!parseTerm(name, &t))
-      return usage("--candidates: '" + name + "' is not a library term (tread_wear_conceal --list [--mechanisms FILE])");
+      return usage("--candidates: '" + name +
+                   "' is not a library term (tread_wear_conceal --list [--mechanisms FILE])");
     opt.candidates.push_back(t);
   }
   int seed = static_cast<int>(opt.seed);

@@ -27,7 +27,9 @@ std::vector<TermInfo> makeLibrary() {
                  "abrasion resistance depends on the tread temperature: w3 -> w3 exp((T - T0)^2 / (2 sigma_T^2)) "
                  "(Eq 25)",
                  true, {false, true},
-                 {{"t0_c", 40.0, -50.0, 200.0, false, kNaN, "degC"}, {"sigma_t_c", 30.0, 2.0, 1000.0, true, kNaN, "degC"}}, 1});
+                 {{"t0_c", 40.0, -50.0, 200.0, false, kNaN, "degC"},
+                  {"sigma_t_c", 30.0, 2.0, 1000.0, true, kNaN, "degC"}},
+                 1});
   lib.push_back({Term::kThermalFriction, "thermal_friction",
                  "rubber friction falls as the tread warms: mu_0, mu_m -> (1 - k_T (T - 23 degC)) mu_0, mu_m", true,
                  {true, true}, {{"k_t_per_k", 0.0, -0.015, 0.015, false, 0.0, "1/K"}}, 0});

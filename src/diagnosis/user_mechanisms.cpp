@@ -64,14 +64,14 @@ class BoundParser {
   /// Sets the expression and collects the identifiers it uses that are not variables; @throw mu::ParserError for
   /// a syntax error.
   void compile(const std::string& expression, std::vector<std::string>* used, std::vector<std::string>* unknown) {
-    Unknown collected;
-    parser_.SetVarFactory(&BoundParser::collect, &collected);
+    unknown_ = Unknown();
+    parser_.SetVarFactory(&BoundParser::collect, &unknown_);
     parser_.SetExpr(expression);
     const mu::varmap_type vars = parser_.GetUsedVar();
     for (const auto& kv : vars)
-      if (std::find(collected.names.begin(), collected.names.end(), kv.first) == collected.names.end())
+      if (std::find(unknown_.names.begin(), unknown_.names.end(), kv.first) == unknown_.names.end())
         used->push_back(kv.first);
-    *unknown = collected.names;
+    *unknown = unknown_.names;
   }
 
   const std::vector<std::string>& names() const { return names_; }
@@ -92,6 +92,7 @@ class BoundParser {
 
   std::vector<std::string> names_;
   std::vector<double> slots_;  ///< sized once: DefineVar holds pointers into it
+  Unknown unknown_;            ///< the factory's, as long as the parser may call it
   mu::Parser parser_;
 };
 
@@ -127,8 +128,8 @@ std::vector<TermInfo> compileMechanisms(const MechanismFile& file) {
     throw MechanismFileError(file.path + ":" + std::to_string(line) + ": " + what);
   };
   // Names taken by the library, the base levels, the outputs and the operating variables.
-  std::set<std::string> builtin_terms, taken = {"w3_scale", "mu_scale", kOutputVariable, kSideForceVariable,
-                                                kWearVariable};
+  std::set<std::string> builtin_terms,
+      taken = {"w3_scale", "mu_scale", kOutputVariable, kSideForceVariable, kWearVariable};
   for (const TermInfo& t : termLibrary()) {
     if (t.user) continue;
     builtin_terms.insert(t.name);
@@ -149,8 +150,7 @@ std::vector<TermInfo> compileMechanisms(const MechanismFile& file) {
     for (std::size_t i = 0; i < spec.affects.size(); ++i) {
       const std::string& a = spec.affects[i];
       const int o = a == outputName(Output::kSideForce) ? 0 : a == outputName(Output::kWear) ? 1 : -1;
-      if (o < 0)
-        fail(spec.affects_lines[i], what + "affects: unknown output '" + a + "' (outputs: side_force, wear)");
+      if (o < 0) fail(spec.affects_lines[i], what + "affects: unknown output '" + a + "' (outputs: side_force, wear)");
       if (info.affects[o]) fail(spec.affects_lines[i], what + "affects: '" + a + "' is listed twice");
       info.affects[o] = true;
     }
@@ -158,8 +158,8 @@ std::vector<TermInfo> compileMechanisms(const MechanismFile& file) {
     for (std::size_t i = 0; i < spec.covariates.size(); ++i) {
       const std::string& c = spec.covariates[i];
       if (taken.count(c) || !own.insert(c).second)
-        fail(spec.covariates_lines[i], what + "covariate '" + c +
-                                           "' is an operating variable, an output or listed twice: use it directly");
+        fail(spec.covariates_lines[i],
+             what + "covariate '" + c + "' is an operating variable, an output or listed twice: use it directly");
     }
     for (const MechanismParameterSpec& p : spec.parameters) {
       if (taken.count(p.name) || own.count(p.name))
@@ -185,9 +185,9 @@ std::vector<TermInfo> compileMechanisms(const MechanismFile& file) {
     }
     if (!unknown.empty()) {
       std::vector<std::string> valid(parser.names().begin(), parser.names().end());
-      fail(spec.expression_line,
-           what + "expression: unknown variable" + (unknown.size() > 1 ? "s " : " ") + joined(unknown) +
-               " (valid: " + joined(valid) + "; a recorded run-table column must be listed under covariates)");
+      fail(spec.expression_line, what + "expression: unknown variable" + (unknown.size() > 1 ? "s " : " ") +
+                                     joined(unknown) + " (valid: " + joined(valid) +
+                                     "; a recorded run-table column must be listed under covariates)");
     }
     for (const std::string& u : used) {
       const bool data_variable =
@@ -293,10 +293,9 @@ void checkNoEffect(const TermInfo& info, const DiagnosisData& data, const Predic
       std::ostringstream s;
       s.precision(6);
       s << info.user->file << ":" << info.user->expression_line << ": mechanism '" << info.name
-        << "': at its no-effect values the expression gives " << outputName(static_cast<Output>(o)) << " = "
-        << out[o] << " on run " << i + 1 << " where the model gives " << was
-        << (std::isfinite(out[o]) ? ": it must reduce to the model (`output`) there"
-                                  : ": it must be finite there");
+        << "': at its no-effect values the expression gives " << outputName(static_cast<Output>(o)) << " = " << out[o]
+        << " on run " << i + 1 << " where the model gives " << was
+        << (std::isfinite(out[o]) ? ": it must reduce to the model (`output`) there" : ": it must be finite there");
       throw DiagnosisError(s.str());
     }
   }

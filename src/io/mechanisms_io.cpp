@@ -11,8 +11,8 @@
 namespace tread_wear {
 namespace {
 
-const std::set<std::string> kMechanismKeys = {"name",     "statement",  "physical",  "parameters",
-                                              "affects",  "covariates", "expression"};
+const std::set<std::string> kMechanismKeys = {"name",    "statement",  "physical",  "parameters",
+                                              "affects", "covariates", "expression"};
 const std::set<std::string> kParameterKeys = {"name", "unit", "lower", "upper", "no_effect", "initial"};
 
 std::string list(const std::set<std::string>& keys) {
@@ -43,8 +43,8 @@ class Parser {
     try {
       root = YAML::Load(text);
     } catch (const YAML::Exception& e) {
-      throw MechanismFileError(source_ + ":" + std::to_string(e.mark.line + 1) + ": not a readable YAML document: " +
-                               e.msg);
+      throw MechanismFileError(source_ + ":" + std::to_string(e.mark.line + 1) +
+                               ": not a readable YAML document: " + e.msg);
     }
     if (!root.IsMap()) throw MechanismFileError(source_ + ":1: the document must be a mapping with the key mechanisms");
     for (const auto& kv : root)

@@ -9,9 +9,8 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
-#include <sstream>
-
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "common/temp_file.h"
 #include "tread_wear/cli/diagnosis_cli.h"
@@ -30,6 +29,7 @@ const std::string kParams = kSource + "/config/tires/grosch_wheel.yaml";
 const std::string kExample = kSource + "/config/mechanisms/example.yaml";
 
 /// A mechanisms document with one mechanism whose fields are given (each a line of the entry, in this order).
+// clang-format off
 std::string document(const std::string& expression, const std::string& parameter_line,
                      const std::string& affects = "[wear]", const std::string& name = "my_term") {
   return "mechanisms:\n"                                  // 1
@@ -41,6 +41,7 @@ std::string document(const std::string& expression, const std::string& parameter
          "    covariates: [humidity_percent]\n"           // 7
          "    expression: " + expression + "\n";          // 8
 }
+// clang-format on
 const std::string kParameter = "{name: k, unit: 1/%, lower: -0.1, upper: 0.1, no_effect: 0}";
 
 /// The error that compiling the document gives ("" for none).
@@ -164,10 +165,10 @@ TEST(UserMechanisms, ExpressionsThatDoNotReduceToTheModelNameTheLine) {
     std::string expression;
     std::string says;
   };
-  for (const Case& c : std::vector<Case>{
-           {"output * (1 + k) + 0.001 * output", "it must reduce to the model (`output`) there"},
-           {"output * (1 + k * (humidity_percent - 50)) / k", "it must be finite there"},
-           {"output + 1 / (humidity_percent - humidity_percent)", "it must be finite there"}}) {
+  for (const Case& c :
+       std::vector<Case>{{"output * (1 + k) + 0.001 * output", "it must reduce to the model (`output`) there"},
+                         {"output * (1 + k * (humidity_percent - 50)) / k", "it must be finite there"},
+                         {"output + 1 / (humidity_percent - humidity_percent)", "it must be finite there"}}) {
     const TempFile file(document(c.expression, kParameter), ".yaml");
     const MechanismsInUse mechanisms(file.path());
     try {
@@ -195,12 +196,11 @@ TEST(UserMechanisms, AtItsNoEffectValueTheMechanismIsTheModel) {
   const ExtendedModel with(base, {}, {t}, data);
   ASSERT_TRUE(with.predict({1.1, 0.95, 0.0}, &neutral));
   ASSERT_TRUE(with.predict({1.1, 0.95, -0.02}, &effect));
-  const std::vector<double>& humidity = data.covariates[std::find_if(data.covariates.begin(), data.covariates.end(),
-                                                                     [](const Covariate& v) {
-                                                                       return v.name == "humidity_percent";
-                                                                     }) -
-                                                        data.covariates.begin()]
-                                            .values;
+  const std::vector<double>& humidity =
+      data.covariates[std::find_if(data.covariates.begin(), data.covariates.end(),
+                                   [](const Covariate& v) { return v.name == "humidity_percent"; }) -
+                      data.covariates.begin()]
+          .values;
   for (std::size_t i = 0; i < data.runs.size(); ++i) {
     EXPECT_EQ(neutral.side_force_n[i], plain.side_force_n[i]) << i;
     EXPECT_EQ(neutral.wear_kg_per_m[i], plain.wear_kg_per_m[i]) << i;
@@ -215,10 +215,9 @@ TEST(UserMechanisms, ConcealedExampleMechanismIsSelectedThroughTheTools) {
   const std::string dir = testing::TempDir() + "tread_wear_user_mechanisms";
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
-  const CliResult conceal =
-      runCli(runConcealCli, {"--params", kParams, "--mechanisms", kExample, "--effect", "humidity_abrasion",
-                             "--magnitude", "-0.015", "--seed", "11", "--runs", dir + "/runs.csv", "--answer",
-                             dir + "/answer.json"});
+  const CliResult conceal = runCli(
+      runConcealCli, {"--params", kParams, "--mechanisms", kExample, "--effect", "humidity_abrasion", "--magnitude",
+                      "-0.015", "--seed", "11", "--runs", dir + "/runs.csv", "--answer", dir + "/answer.json"});
   ASSERT_EQ(conceal.code, 0) << conceal.err;
   const CliResult r = diagnoseCli({"--params", kParams, "--runs", dir + "/runs.csv", "--mechanisms", kExample,
                                    "--report", dir + "/report", "--no-plots", "--detection-power", "0"});
@@ -235,8 +234,8 @@ TEST(UserMechanisms, ConcealedExampleMechanismIsSelectedThroughTheTools) {
   EXPECT_EQ(j["parameters"]["k_h_per_percent"]["unit"], "1/%");
   EXPECT_LT(j["cv_rmser_after"]["wear"].get<double>(), 0.5 * j["cv_rmser_before"]["wear"].get<double>());
   // Without the file the name is unknown to the tools; a bad file is bad data (exit 1) naming its line.
-  EXPECT_EQ(diagnoseCli({"--params", kParams, "--runs", dir + "/runs.csv", "--report", dir + "/r2",
-                         "--candidates", "humidity_abrasion"})
+  EXPECT_EQ(diagnoseCli({"--params", kParams, "--runs", dir + "/runs.csv", "--report", dir + "/r2", "--candidates",
+                         "humidity_abrasion"})
                 .code,
             2);
   const TempFile bad(document("output * exp(k * (humidity - 50))", kParameter), ".yaml");
@@ -254,9 +253,9 @@ TEST(UserMechanisms, ControlsStayNoneWithTheMechanismsLoaded) {
     const DiagnosisData data = buildDiagnosisData(concealEffect(base, spec("none", NAN, "table2", seed)).table);
     const DiagnosisResult r = diagnose(base, data, quickOptions());
     EXPECT_EQ(r.explanation, "none") << "seed " << seed;
-    EXPECT_TRUE(std::any_of(r.tried.begin(), r.tried.end(),
-                            [](const FittedModel& f) { return f.label == "humidity_abrasion"; }))
-        << "the user term was not tried";
+    EXPECT_TRUE(std::any_of(r.tried.begin(), r.tried.end(), [](const FittedModel& f) {
+      return f.label == "humidity_abrasion";
+    })) << "the user term was not tried";
   }
 }
 

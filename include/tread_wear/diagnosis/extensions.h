@@ -76,7 +76,7 @@ struct TermInfo {
   std::vector<TermParameterSpec> parameters;  ///< empty for turn_slip_orientation (a discrete switch)
   int primary;             ///< index of the parameter that measures the effect's size; -1 for none
   double temperature_ref_c = 23.0;  ///< thermal_friction reference temperature [degC] (the rig's ambient)
-  std::shared_ptr<const UserMechanism> user = nullptr;  ///< a user-defined mechanism's expression; null for a built-in term
+  std::shared_ptr<const UserMechanism> user = nullptr;  ///< a user-defined mechanism's expression; null if built in
 };
 
 /// All terms, in enum order: the built-in ones, then the user-defined ones.

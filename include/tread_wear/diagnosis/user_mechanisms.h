@@ -27,7 +27,7 @@ namespace diagnosis {
 /// What a compiled user mechanism carries besides its TermInfo.
 struct UserMechanism {
   std::string file;
-  int line = 0;             ///< of the mechanism's entry
+  int line = 0;  ///< of the mechanism's entry
   int expression_line = 0;
   std::string expression;
   std::vector<std::string> covariates;  ///< declared recorded columns

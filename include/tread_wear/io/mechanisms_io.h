@@ -27,11 +27,11 @@ namespace tread_wear {
 /// A fitted parameter of a user mechanism.
 struct MechanismParameterSpec {
   std::string name;
-  std::string unit;     ///< as written, e.g. "1/%" or "-"
+  std::string unit;                 ///< as written, e.g. "1/%" or "-"
   double lower = 0.0, upper = 0.0;  ///< bounds [unit], lower < upper
   double no_effect = 0.0;  ///< value at which the mechanism leaves the model unchanged [unit], in [lower, upper]
   double initial = std::numeric_limits<double>::quiet_NaN();  ///< start of a fit [unit]; NaN = no_effect
-  int line = 0;         ///< of the parameter's entry
+  int line = 0;                                               ///< of the parameter's entry
 };
 
 /// One mechanism as written in the file.
@@ -40,12 +40,12 @@ struct MechanismSpec {
   std::string statement;
   bool physical = true;
   std::vector<MechanismParameterSpec> parameters;
-  std::vector<std::string> affects;     ///< output names as written
+  std::vector<std::string> affects;  ///< output names as written
   std::vector<int> affects_lines;
   std::vector<std::string> covariates;  ///< recorded columns the expression may read
   std::vector<int> covariates_lines;
   std::string expression;
-  int line = 0;             ///< of the entry
+  int line = 0;  ///< of the entry
   int name_line = 0;
   int expression_line = 0;
 };
