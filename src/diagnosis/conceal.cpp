@@ -63,7 +63,11 @@ double defaultMagnitude(Term term) {
     case Term::kLoadFluctuation: return 0.25;
     case Term::kSensorGain: return 1.08;
     case Term::kSensorOffset: return 4.0;
-    default: return std::numeric_limits<double>::quiet_NaN();
+    default: {
+      const TermInfo& info = termInfo(term);
+      return info.user && !info.user->test_magnitudes.empty() ? info.user->test_magnitudes.back()
+                                                              : std::numeric_limits<double>::quiet_NaN();
+    }
   }
 }
 
@@ -79,7 +83,8 @@ ConcealCase concealEffect(const TireParams& base, const ConcealSpec& spec) {
   double magnitude = spec.magnitude;
   if (has_effect && std::isnan(magnitude)) magnitude = defaultMagnitude(term);
   if (has_effect && std::isnan(magnitude) && termInfo(term).primary >= 0)
-    throw std::invalid_argument("effect '" + spec.effect + "' has no default magnitude: give one (--magnitude)");
+    throw std::invalid_argument("effect '" + spec.effect +
+                                "' has no default magnitude: give one (--magnitude, or test_magnitudes in its file)");
 
   ConcealCase out;
   ConcealAnswer& ans = out.answer;

@@ -176,6 +176,7 @@ std::vector<TermInfo> compileMechanisms(const MechanismFile& file) {
     user->expression_line = spec.expression_line;
     user->expression = spec.expression;
     user->covariates = spec.covariates;
+    user->test_magnitudes = spec.test_magnitudes;
     BoundParser parser(spec.covariates, info.parameters);
     std::vector<std::string> used, unknown;
     try {

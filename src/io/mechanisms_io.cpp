@@ -11,8 +11,8 @@
 namespace tread_wear {
 namespace {
 
-const std::set<std::string> kMechanismKeys = {"name",    "statement",  "physical",  "parameters",
-                                              "affects", "covariates", "expression"};
+const std::set<std::string> kMechanismKeys = {"name",    "statement",  "physical",   "parameters",
+                                              "affects", "covariates", "expression", "test_magnitudes"};
 const std::set<std::string> kParameterKeys = {"name", "unit", "lower", "upper", "no_effect", "initial"};
 
 std::string list(const std::set<std::string>& keys) {
@@ -172,6 +172,18 @@ class Parser {
     const YAML::Node expression = required(m, "expression", what);
     spec.expression = text(expression, what + ": expression");
     spec.expression_line = lineOf(expression);
+    if (const YAML::Node magnitudes = m["test_magnitudes"]) {
+      const MechanismParameterSpec& size = spec.parameters.front();
+      if (!magnitudes.IsSequence() || magnitudes.size() < 1 || magnitudes.size() > 2)
+        fail(magnitudes, what + ": test_magnitudes must list one or two values of " + size.name + " (small, large)");
+      for (const YAML::Node& v : magnitudes) {
+        const double x = number(v, what + ": test_magnitudes entry");
+        if (!(x >= size.lower && x <= size.upper) || x == size.no_effect)
+          fail(v, what + ": test_magnitudes entry " + v.Scalar() + " must be a value of " + size.name +
+                      " in [lower, upper] other than its no_effect");
+        spec.test_magnitudes.push_back(x);
+      }
+    }
     return spec;
   }
 

@@ -16,6 +16,7 @@
 #include "tread_wear/cli/diagnosis_cli.h"
 #include "tread_wear/diagnosis/conceal.h"
 #include "tread_wear/diagnosis/diagnosis.h"
+#include "tread_wear/diagnosis/harness.h"
 #include "tread_wear/diagnosis/user_mechanisms.h"
 #include "tread_wear/io/params_io.h"
 
@@ -147,6 +148,9 @@ TEST(UserMechanisms, MalformedFilesNameTheLine) {
       {document(ok, kParameter) + document(ok, kParameter).substr(std::string("mechanisms:\n").size()), 9,
        "mechanism name 'my_term' is used twice"},
       {"mechanisms:\n  - name: x\n    statement: |\n      two\n      lines\n", 3, "must be one line"},
+      {document(ok, kParameter) + "    test_magnitudes: [0.05, 0.2]\n", 9,
+       "test_magnitudes entry 0.2 must be a value of k in [lower, upper]"},
+      {document(ok, kParameter) + "    test_magnitudes: [0]\n", 9, "other than its no_effect"},
   };
   for (const Case& c : cases) {
     const std::string error = compileError(c.text);
@@ -294,4 +298,32 @@ TEST(UserMechanisms, RestatedBuiltInTermFitsAsTheBuiltIn) {
   ASSERT_EQ(restated.detection_limits.size(), 1u);
   EXPECT_NEAR(restated.detection_limits[0].below, builtin.detection_limits[0].below, 1e-4);
   EXPECT_NEAR(restated.detection_limits[0].above, builtin.detection_limits[0].above, 1e-4);
+}
+
+// The harness takes a user mechanism's small and large magnitudes from its file (test_magnitudes).
+TEST(UserMechanisms, HarnessScansTheFilesMagnitudes) {
+  const MechanismsInUse mechanisms(kExample);
+  HarnessOptions h;
+  h.design = "small";
+  h.repeats = 1;
+  h.control_repeats = 1;
+  h.wear_noise = {0.05};
+  h.effects = {"humidity_abrasion"};
+  h.diagnosis.permutations = 999;
+  h.diagnosis.detection_power = 0.0;
+  const std::vector<HarnessOutcome> outcomes = runHarness(loadTireParams(kParams), h);
+  ASSERT_EQ(outcomes.size(), 3u);
+  EXPECT_EQ(outcomes[0].c.magnitude_label, "small");
+  EXPECT_EQ(outcomes[0].c.spec.magnitude, -0.005);
+  EXPECT_EQ(outcomes[1].c.magnitude_label, "large");
+  EXPECT_EQ(outcomes[1].c.spec.magnitude, -0.015);
+  EXPECT_TRUE(outcomes[1].right) << outcomes[1].explanation;
+  EXPECT_TRUE(outcomes[1].parameter_ok) << outcomes[1].estimate;
+  EXPECT_TRUE(outcomes[1].improved);
+  EXPECT_EQ(outcomes[2].explanation, "none");
+  // A user term without test magnitudes cannot be scanned.
+  const TempFile file(document("output * exp(k * (humidity_percent - 50))", kParameter), ".yaml");
+  const MechanismsInUse other(file.path());
+  h.effects = {"my_term"};
+  EXPECT_THROW(harnessCases(h), std::invalid_argument);
 }

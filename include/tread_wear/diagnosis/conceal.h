@@ -57,8 +57,8 @@ struct ConcealCase {
   ConcealAnswer answer;
 };
 
-/// Default magnitude of a term's primary parameter in generated cases; NaN for a user-defined term
-/// (user_mechanisms.h), which needs ConcealSpec::magnitude.
+/// Default magnitude of a term's primary parameter in generated cases; for a user-defined term (user_mechanisms.h)
+/// the last of its test magnitudes, NaN without them (ConcealSpec::magnitude is then needed).
 double defaultMagnitude(Term term);
 /// Generates one case. @throw std::invalid_argument for an invalid spec, an unknown effect or a user-defined one
 /// without a magnitude or that the design cannot show; DiagnosisError for a user-defined one that does not reduce

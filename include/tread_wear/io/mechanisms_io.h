@@ -16,6 +16,8 @@
 ///       affects: [wear]                  # outputs the expression modifies
 ///       covariates: [humidity_percent]   # optional: recorded run-table columns the expression reads
 ///       expression: output * exp(k_h_per_percent * (humidity_percent - 50))
+///       test_magnitudes: [-0.005, -0.015]  # optional: the first parameter's small and large effect for the
+///                                        # concealed-effect generator (the last is its default) and the harness
 
 #include <limits>
 #include <stdexcept>
@@ -45,6 +47,8 @@ struct MechanismSpec {
   std::vector<std::string> covariates;  ///< recorded columns the expression may read
   std::vector<int> covariates_lines;
   std::string expression;
+  /// values of the first parameter for generated cases (1 or 2, inside its bounds, not its no-effect value)
+  std::vector<double> test_magnitudes;
   int line = 0;  ///< of the entry
   int name_line = 0;
   int expression_line = 0;
