@@ -143,7 +143,8 @@ ConcealCase concealEffect(const TireParams& base, const ConcealSpec& spec) {
     if (!termApplicable(term, data, &why_not))
       throw std::invalid_argument("effect '" + spec.effect + "' cannot be concealed in this design: " + why_not);
     Prediction plain;
-    ExtendedModel(base, spec.model, {}, data).predict({1.0, 1.0}, &plain);
+    if (!ExtendedModel(base, spec.model, {}, data).predict({1.0, 1.0}, &plain))
+      throw std::invalid_argument("the base model cannot be evaluated on the design");
     checkNoEffect(termInfo(term), data, plain);
   }
   std::vector<Term> terms;
