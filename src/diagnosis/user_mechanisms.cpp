@@ -159,7 +159,8 @@ std::vector<TermInfo> compileMechanisms(const MechanismFile& file) {
       const std::string& c = spec.covariates[i];
       if (taken.count(c) || !own.insert(c).second)
         fail(spec.covariates_lines[i],
-             what + "covariate '" + c + "' is an operating variable, an output or listed twice: use it directly");
+             what + "covariate '" + c +
+                 "' is taken (an operating variable, an output, a parameter) or listed twice: choose another");
     }
     for (const MechanismParameterSpec& p : spec.parameters) {
       if (taken.count(p.name) || own.count(p.name))
@@ -185,9 +186,8 @@ std::vector<TermInfo> compileMechanisms(const MechanismFile& file) {
       fail(spec.expression_line, what + "expression: " + e.GetMsg());
     }
     if (!unknown.empty()) {
-      std::vector<std::string> valid(parser.names().begin(), parser.names().end());
       fail(spec.expression_line, what + "expression: unknown variable" + (unknown.size() > 1 ? "s " : " ") +
-                                     joined(unknown) + " (valid: " + joined(valid) +
+                                     joined(unknown) + " (valid: " + joined(parser.names()) +
                                      "; a recorded run-table column must be listed under covariates)");
     }
     for (const std::string& u : used) {
