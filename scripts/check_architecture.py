@@ -31,10 +31,10 @@ EXTERNAL_OWNERS = {
     "tf2/": {"ros"}, "tf2_ros/": {"ros"}, "tf2_eigen/": {"ros"}, "roslz4/": {"ros/bag"}, "bzlib.h": {"ros/bag"}, "boost/thread": {"ros"},
     "yaml-cpp/": {"io"}, "nlohmann/": {"io", "report"}, "ceres/": {"fitting"},
     "cvode/": {"reference"}, "nvector/": {"reference"}, "sunlinsol/": {"reference"}, "sunmatrix/": {"reference"},
-    "sundials/": {"reference"}, "boost/math": {"diagnosis"},
+    "sundials/": {"reference"}, "boost/math": {"diagnosis"}, "muParser": {"diagnosis"},
 }
 # Libraries whose owners keep them out of their public headers, and the namespace that shows a use of each.
-PRIVATE_EXTERNALS = {"yaml-cpp/": "YAML::", "nlohmann/": "nlohmann::"}
+PRIVATE_EXTERNALS = {"yaml-cpp/": "YAML::", "nlohmann/": "nlohmann::", "muParser": "mu::"}
 COMMENT = re.compile(r"//[^\n]*|/\*.*?\*/", re.S)
 
 
@@ -89,7 +89,8 @@ def main():
         text = path.read_text()
         code = COMMENT.sub("", text)
         for prefix, token in PRIVATE_EXTERNALS.items():
-            if token in code and own not in EXTERNAL_OWNERS[prefix]:
+            # The namespace as a whole word: sensor_msgs::Imu:: is no use of mu::.
+            if re.search(r"(?<![\w:])" + re.escape(token), code) and own not in EXTERNAL_OWNERS[prefix]:
                 problems.append(f"{rel}: uses {token}, which belongs to "
                                 f"{sorted(EXTERNAL_OWNERS[prefix])} (let them build or parse the document)")
         if own is None:

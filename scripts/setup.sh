@@ -20,7 +20,7 @@ TREAD_WEAR_APT_PACKAGES=(
   python3-std-msgs python3-geometry-msgs python3-sensor-msgs python3-visualization-msgs
   python3-tf2-msgs python3-diagnostic-msgs python3-nav-msgs
   # numerics, I/O, tests, benchmarks
-  libsundials-dev libeigen3-dev libceres-dev libyaml-cpp-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev
+  libsundials-dev libeigen3-dev libceres-dev libyaml-cpp-dev libmuparser-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev
   libboost-dev
   # plotting scripts
   python3-matplotlib python3-numpy

@@ -1,5 +1,6 @@
 #include "tread_wear/cli/conceal_cli.h"
 
+#include <cmath>
 #include <fstream>
 #include <optional>
 #include <stdexcept>
@@ -10,6 +11,7 @@
 #include "tread_wear/diagnosis/conceal.h"
 #include "tread_wear/diagnosis/data.h"
 #include "tread_wear/diagnosis/diagnosis.h"
+#include "tread_wear/diagnosis/user_mechanisms.h"
 #include "tread_wear/io/params_io.h"
 #include "tread_wear/io/run_table.h"
 #include "tread_wear/report/diagnosis_report.h"
@@ -21,13 +23,13 @@ int runConcealCli(int argc, const char* const argv[], std::ostream& out, std::os
   const char* usage_text =
       "usage: tread_wear_conceal --params FILE --effect NAME|none --runs OUT.csv --answer OUT.json [--magnitude X]\n"
       "       [--design table2|small] [--wear-noise RSD] [--force-noise N] [--seed N] [--orientation literal|flipped]\n"
-      "       [--information]\n"
-      "       tread_wear_conceal --list\n";
+      "       [--information] [--mechanisms FILE]\n"
+      "       tread_wear_conceal --list [--mechanisms FILE]\n";
   CommandLine a;
   std::string parse_error;
   const bool parsed = a.parse(argc, argv,
                {"params", "effect", "runs", "answer", "magnitude", "design", "wear-noise", "force-noise",
-                "seed", "orientation", "preset"},
+                "seed", "orientation", "preset", "mechanisms"},
                {"list", "information"}, &parse_error);
   auto usage = [&](const std::string& msg) { return usageError(err, "tread_wear_conceal", msg, usage_text); };
   if (a.help()) {
@@ -35,12 +37,24 @@ int runConcealCli(int argc, const char* const argv[], std::ostream& out, std::os
     return 0;
   }
   if (!parsed) return usage(parse_error);
+  std::optional<MechanismsInUse> mechanisms;  // user-defined terms join the library until the tool returns
+  try {
+    mechanisms.emplace(a.get("mechanisms"));
+  } catch (const std::exception& ex) {
+    err << "tread_wear_conceal: " << ex.what() << "\n";
+    return kExitData;
+  }
   if (a.has("list")) {
     for (const TermInfo& t : termLibrary()) {
-      out << t.name << (t.physical ? "" : " (sensor)") << ": " << t.statement << "\n  parameters:";
-      for (const TermParameterSpec& p : t.parameters) out << " " << p.name << " [" << p.lower << ", " << p.upper << "]";
+      out << t.name << (t.physical ? "" : " (sensor)") << (t.user ? " (user-defined, " + t.user->where() + ")" : "")
+          << ": " << t.statement << "\n  parameters:";
+      for (const TermParameterSpec& p : t.parameters)
+        out << " " << p.name << " [" << p.lower << ", " << p.upper << "] " << p.unit;
       if (t.parameters.empty()) out << " none (a switch)";
-      out << "\n  default magnitude: " << defaultMagnitude(t.term) << "\n";
+      const double m = defaultMagnitude(t.term);
+      out << "\n  default magnitude: ";
+      if (std::isnan(m) && t.user) out << "none (give --magnitude)\n";
+      else out << m << "\n";
     }
     return 0;
   }

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -12,6 +13,7 @@
 #include "tread_wear/cli/diagnosis_model_options.h"
 #include "tread_wear/diagnosis/data.h"
 #include "tread_wear/diagnosis/diagnosis.h"
+#include "tread_wear/diagnosis/user_mechanisms.h"
 #include "tread_wear/fitting/recording_checks.h"
 #include "tread_wear/io/params_io.h"
 #include "tread_wear/report/diagnosis_report.h"
@@ -23,8 +25,8 @@ namespace {
 const char* const kDiagnoseUsage =
     "usage: tread_wear_diagnose --params FILE (--runs FILE.csv | --bag FILE.bag) --report DIR\n"
     "       [--orientation literal|flipped] [--preset fast|standard|fine|reference] [--candidates a,b,...]\n"
-    "       [--max-terms N] [--alpha-locate X] [--alpha-select X] [--detection-power X] [--seed N]\n"
-    "       [--plot-script PATH | --no-plots]\n";
+    "       [--mechanisms FILE] [--max-terms N] [--alpha-locate X] [--alpha-select X] [--detection-power X]\n"
+    "       [--seed N] [--plot-script PATH | --no-plots]\n";
 
 }  // namespace
 
@@ -34,7 +36,7 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
   std::string parse_error;
   const bool parsed = a.parse(argc, argv,
                {"params", "runs", "bag", "report", "orientation", "preset", "candidates", "max-terms",
-                "alpha-locate", "alpha-select", "detection-power", "seed", "plot-script"},
+                "alpha-locate", "alpha-select", "detection-power", "seed", "plot-script", "mechanisms"},
                {"no-plots"}, &parse_error);
   auto usage = [&](const std::string& msg) { return usageError(err, "tread_wear_diagnose", msg, kDiagnoseUsage); };
   if (a.help()) {
@@ -50,10 +52,18 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
   DiagnosisOptions opt;
   std::string e = applyModelOptions(a, &opt.model);
   if (!e.empty()) return usage(e);
+  std::optional<MechanismsInUse> mechanisms;  // user-defined terms join the library until the tool returns
+  try {
+    mechanisms.emplace(a.get("mechanisms"));
+  } catch (const std::exception& ex) {
+    err << "tread_wear_diagnose: " << ex.what() << "\n";
+    return kExitData;
+  }
   for (const std::string& name : splitList(a.get("candidates"))) {
     Term t;
     if (!parseTerm(name, &t))
-      return usage("--candidates: '" + name + "' is not a library term (tread_wear_conceal --list)");
+      return usage("--candidates: '" + name +
+                   "' is not a library term (tread_wear_conceal --list [--mechanisms FILE])");
     opt.candidates.push_back(t);
   }
   int seed = static_cast<int>(opt.seed);

@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <fstream>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "tread_wear/cli/command_line.h"
 #include "tread_wear/diagnosis/harness.h"
+#include "tread_wear/diagnosis/user_mechanisms.h"
 #include "tread_wear/io/csv.h"
 #include "tread_wear/io/params_io.h"
 
@@ -18,11 +20,12 @@ int runHarnessCli(int argc, const char* const argv[], std::ostream& out, std::os
   const char* usage_text =
       "usage: tread_wear_diagnosis_harness --params FILE [--quick] [--design table2|small] [--repeats N]\n"
       "       [--controls N] [--effects a,b] [--noise 0.05,0.10] [--one-magnitude] [--information] [--alpha-select X]\n"
-      "       [--jobs N] [--seed N] [--csv OUT]\n";
+      "       [--jobs N] [--seed N] [--csv OUT] [--mechanisms FILE]\n";
   CommandLine a;
   std::string parse_error;
   const bool parsed = a.parse(argc, argv,
-               {"params", "design", "repeats", "controls", "effects", "noise", "jobs", "seed", "csv", "alpha-select"},
+               {"params", "design", "repeats", "controls", "effects", "noise", "jobs", "seed", "csv", "alpha-select",
+                "mechanisms"},
                {"quick", "one-magnitude", "information"}, &parse_error);
   auto usage = [&](const std::string& msg) { return usageError(err, "tread_wear_diagnosis_harness", msg, usage_text); };
   if (a.help()) {
@@ -31,6 +34,13 @@ int runHarnessCli(int argc, const char* const argv[], std::ostream& out, std::os
   }
   if (!parsed) return usage(parse_error);
   if (!a.has("params")) return usage("--params is required");
+  std::optional<MechanismsInUse> mechanisms;  // user-defined terms join the library until the tool returns
+  try {
+    mechanisms.emplace(a.get("mechanisms"));
+  } catch (const std::exception& ex) {
+    err << "tread_wear_diagnosis_harness: " << ex.what() << "\n";
+    return kExitData;
+  }
   HarnessOptions h;
   if (a.has("quick")) {
     // Small mode: the short design, one magnitude, two seeds, one noise level.

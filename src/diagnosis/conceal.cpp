@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "tread_wear/diagnosis/data.h"
+#include "tread_wear/diagnosis/user_mechanisms.h"
 
 namespace tread_wear {
 namespace diagnosis {
@@ -62,7 +63,11 @@ double defaultMagnitude(Term term) {
     case Term::kLoadFluctuation: return 0.25;
     case Term::kSensorGain: return 1.08;
     case Term::kSensorOffset: return 4.0;
-    default: return std::numeric_limits<double>::quiet_NaN();
+    default: {
+      const TermInfo& info = termInfo(term);
+      return info.user && !info.user->test_magnitudes.empty() ? info.user->test_magnitudes.back()
+                                                              : std::numeric_limits<double>::quiet_NaN();
+    }
   }
 }
 
@@ -73,10 +78,13 @@ ConcealCase concealEffect(const TireParams& base, const ConcealSpec& spec) {
   std::normal_distribution<double> normal(0.0, 1.0);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   const bool has_effect = spec.effect != "none";
-  Term term = Term::kCount;
+  Term term = Term::kNone;
   if (has_effect) parseTerm(spec.effect, &term);
   double magnitude = spec.magnitude;
   if (has_effect && std::isnan(magnitude)) magnitude = defaultMagnitude(term);
+  if (has_effect && std::isnan(magnitude) && termInfo(term).primary >= 0)
+    throw std::invalid_argument("effect '" + spec.effect +
+                                "' has no default magnitude: give one (--magnitude, or test_magnitudes in its file)");
 
   ConcealCase out;
   ConcealAnswer& ans = out.answer;
@@ -130,6 +138,15 @@ ConcealCase concealEffect(const TireParams& base, const ConcealSpec& spec) {
 
   // Truth.
   const DiagnosisData data = buildDiagnosisData(table);
+  if (has_effect && termInfo(term).user) {
+    std::string why_not;
+    if (!termApplicable(term, data, &why_not))
+      throw std::invalid_argument("effect '" + spec.effect + "' cannot be concealed in this design: " + why_not);
+    Prediction plain;
+    if (!ExtendedModel(base, spec.model, {}, data).predict({1.0, 1.0}, &plain))
+      throw std::invalid_argument("the base model cannot be evaluated on the design");
+    checkNoEffect(termInfo(term), data, plain);
+  }
   std::vector<Term> terms;
   if (has_effect) terms.push_back(term);
   ExtendedModel truth(base, spec.model, terms, data);

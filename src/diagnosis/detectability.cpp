@@ -238,7 +238,7 @@ Detectability detectability(const TireParams& base, const DiagnosisData& truth, 
                             const DetectabilityOptions& options) {
   std::string error;
   if (!options.validate(&error)) throw std::invalid_argument(error);
-  Term hidden_term = Term::kCount;
+  Term hidden_term = Term::kNone;
   if (hidden != "none" && !parseTerm(hidden, &hidden_term))
     throw std::invalid_argument("detectability: '" + hidden + "' is not a library term or none");
 
@@ -266,9 +266,9 @@ Detectability detectability(const TireParams& base, const DiagnosisData& truth, 
                                 "with " + std::to_string(largest_k) + " parameters");
   d.lambda = base_model.residual.squaredNorm();
   const bool hidden_tried = std::find(applicable.begin(), applicable.end(), hidden_term) != applicable.end();
-  if (hidden_term != Term::kCount && !hidden_tried) {
+  if (hidden_term != Term::kNone && !hidden_tried) {
     d.power = 0.0;  // the data cannot show it (e.g. no temperatures for a thermal term): never tested
-  } else if (hidden_term != Term::kCount) {
+  } else if (hidden_term != Term::kNone) {
     for (const LinearisedModel& m : candidates)
       if (m.terms.front() == hidden_term) d.parameters = m.parameters;
     const int k_term = parameterCount({hidden_term}) - base_model.k;

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "tread_wear/diagnosis/statistics.h"
+#include "tread_wear/diagnosis/user_mechanisms.h"
 
 namespace tread_wear {
 namespace diagnosis {
@@ -433,6 +434,8 @@ DiagnosisResult diagnose(const TireParams& base, const DiagnosisData& data, cons
     if (termApplicable(t, data, &why)) applicable.push_back(t);
     else result.skipped_terms.push_back(termInfo(t).name + ": " + why);
   }
+  for (Term t : applicable)  // a user term must leave the model as it is at its no-effect values
+    if (termInfo(t).user) checkNoEffect(termInfo(t), data, result.base.prediction);
   FittedModel current = result.base;
   for (int step = 0; step < options.max_terms; ++step) {
     if (reproducedExactly(current)) {

@@ -6,6 +6,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "tread_wear/diagnosis/user_mechanisms.h"
+
 namespace tread_wear {
 namespace diagnosis {
 namespace {
@@ -25,44 +27,60 @@ std::vector<TermInfo> makeLibrary() {
                  "abrasion resistance depends on the tread temperature: w3 -> w3 exp((T - T0)^2 / (2 sigma_T^2)) "
                  "(Eq 25)",
                  true, {false, true},
-                 {{"t0_c", 40.0, -50.0, 200.0, false, kNaN}, {"sigma_t_c", 30.0, 2.0, 1000.0, true, kNaN}}, 1});
+                 {{"t0_c", 40.0, -50.0, 200.0, false, kNaN, "degC"},
+                  {"sigma_t_c", 30.0, 2.0, 1000.0, true, kNaN, "degC"}},
+                 1});
   lib.push_back({Term::kThermalFriction, "thermal_friction",
                  "rubber friction falls as the tread warms: mu_0, mu_m -> (1 - k_T (T - 23 degC)) mu_0, mu_m", true,
-                 {true, true}, {{"k_t_per_k", 0.0, -0.015, 0.015, false, 0.0}}, 0});
+                 {true, true}, {{"k_t_per_k", 0.0, -0.015, 0.015, false, 0.0, "1/K"}}, 0});
   lib.push_back({Term::kSurfacePolishing, "surface_polishing",
                  "the track gets polished: abrasiveness decays as exp(-r_p L) with the sliding distance L on the "
                  "current surface, reset when the surface is renewed (each cycle)",
-                 true, {false, true}, {{"polishing_rate_per_km", 0.2, 0.0, 10.0, false, 0.0}}, 0});
+                 true, {false, true}, {{"polishing_rate_per_km", 0.2, 0.0, 10.0, false, 0.0, "1/km"}}, 0});
   lib.push_back({Term::kLateralCompliance, "lateral_compliance",
                  "the wheel or carcass bends under the side force, lowering the effective slip angle: "
                  "|alpha_eff| = |alpha| - c_lat |Fy|",
-                 true, {true, true}, {{"compliance_rad_per_n", 1e-4, 0.0, 3e-3, false, 0.0}}, 0});
+                 true, {true, true}, {{"compliance_rad_per_n", 1e-4, 0.0, 3e-3, false, 0.0, "rad/N"}}, 0});
   lib.push_back({Term::kPressureFriction, "pressure_friction",
                  "friction falls with contact pressure more (or less) than the file says: the sat(p) exponent q "
                  "of Eq 11 is free",
-                 true, {true, true}, {{"q", 0.14, 0.0, 1.0, false, 0.14}}, 0});
+                 true, {true, true}, {{"q", 0.14, 0.0, 1.0, false, 0.14, "-"}}, 0});
   lib.push_back({Term::kLoadFluctuation, "load_fluctuation",
                  "the vertical load fluctuates during a run: forces and wear are the Eq 23 average over "
                  "N(Fz, (s_load load_std)^2) instead of the value at the mean load",
-                 true, {true, true}, {{"load_std_scale", 1.0, 0.0, 6.0, false, 0.0}}, 0});
+                 true, {true, true}, {{"load_std_scale", 1.0, 0.0, 6.0, false, 0.0, "-"}}, 0});
   lib.push_back({Term::kTurnSlipOrientation, "turn_slip_orientation",
                  "the slip angle is oriented the other way against the track curve (turn slip adds to sideslip "
                  "instead of opposing it)",
                  true, {true, true}, {}, -1});
   lib.push_back({Term::kSensorGain, "sensor_gain",
                  "not physics: the side-force transducer reads g times the true force (calibration gain error)",
-                 false, {true, false}, {{"side_force_gain", 1.0, 0.5, 1.5, false, 1.0}}, 0});
+                 false, {true, false}, {{"side_force_gain", 1.0, 0.5, 1.5, false, 1.0, "-"}}, 0});
   lib.push_back({Term::kSensorOffset, "sensor_offset",
                  "not physics: the side-force transducer reads the true force plus a constant zero offset o [N]",
-                 false, {true, false}, {{"side_force_offset_n", 0.0, -30.0, 30.0, false, 0.0}}, 0});
+                 false, {true, false}, {{"side_force_offset_n", 0.0, -30.0, 30.0, false, 0.0, "N"}}, 0});
+  return lib;
+}
+
+std::vector<TermInfo>& library() {
+  static std::vector<TermInfo> lib = makeLibrary();
   return lib;
 }
 
 }  // namespace
 
-const std::vector<TermInfo>& termLibrary() {
-  static const std::vector<TermInfo> lib = makeLibrary();
-  return lib;
+const std::vector<TermInfo>& termLibrary() { return library(); }
+
+std::vector<TermInfo> setUserTerms(std::vector<TermInfo> user) {
+  std::vector<TermInfo>& lib = library();
+  const auto first_user = lib.begin() + static_cast<int>(Term::kFirstUser);
+  std::vector<TermInfo> previous(std::make_move_iterator(first_user), std::make_move_iterator(lib.end()));
+  lib.erase(first_user, lib.end());
+  for (TermInfo& t : user) {
+    t.term = static_cast<Term>(lib.size());
+    lib.push_back(std::move(t));
+  }
+  return previous;
 }
 
 const TermInfo& termInfo(Term term) { return termLibrary().at(static_cast<int>(term)); }
@@ -86,6 +104,14 @@ bool parseTerm(const std::string& name, Term* term) {
       return true;
     }
   return false;
+}
+
+std::string parameterUnit(const std::string& name) {
+  if (name == "w3_scale" || name == "mu_scale") return "-";
+  for (const TermInfo& t : termLibrary())
+    for (const TermParameterSpec& p : t.parameters)
+      if (p.name == name) return p.unit;
+  return "";
 }
 
 std::string termsLabel(const std::vector<Term>& terms) {
@@ -120,7 +146,7 @@ bool termApplicable(Term term, const DiagnosisData& data, std::string* why_not) 
     case Term::kSensorOffset:
       return fy ? true : no("no side force measured");
     default:
-      return true;
+      return termInfo(term).user ? userMechanismApplicable(termInfo(term), data, why_not) : true;
   }
 }
 
@@ -129,11 +155,13 @@ ExtendedModel::ExtendedModel(const TireParams& base, const ExtendedModelOptions&
     : base_(base), options_(options), terms_(std::move(terms)), data_(data) {
   std::string error;
   if (!base_.validate(&error)) throw std::invalid_argument(error);
-  offsets_.assign(static_cast<int>(Term::kCount), -1);
+  offsets_.assign(termLibrary().size(), -1);
   num_parameters_ = kBaseParameters;
   for (Term t : terms_) {
-    if (offsets_[static_cast<int>(t)] >= 0) throw std::invalid_argument("term listed twice: " + termInfo(t).name);
+    const TermInfo& info = termInfo(t);
+    if (offsets_[static_cast<int>(t)] >= 0) throw std::invalid_argument("term listed twice: " + info.name);
     offsets_[static_cast<int>(t)] = num_parameters_;
+    if (info.user) user_terms_.emplace_back(num_parameters_, std::make_shared<MechanismEvaluator>(info, data_));
     num_parameters_ += static_cast<int>(termInfo(t).parameters.size());
   }
   TurnSlipOrientation orientation = options_.orientation;
@@ -311,8 +339,10 @@ bool ExtendedModel::predict(const std::vector<double>& values, Prediction* out) 
     }
     if (has(Term::kSurfacePolishing))
       w3_factor *= std::exp(-value(Term::kSurfacePolishing, 0) * r.cumulative_sliding_m / 1000.0);
+    double wear = w3_factor * raw[i].wear_w3_kg_per_m + raw[i].wear_w4_kg_per_m;
+    for (const auto& [offset, evaluator] : user_terms_) evaluator->apply(i, &values[offset], &fy, &wear);
     out->side_force_n[i] = fy;
-    out->wear_kg_per_m[i] = w3_factor * raw[i].wear_w3_kg_per_m + raw[i].wear_w4_kg_per_m;
+    out->wear_kg_per_m[i] = wear;
     if (!std::isfinite(out->side_force_n[i]) || !std::isfinite(out->wear_kg_per_m[i])) return false;
   }
   return true;

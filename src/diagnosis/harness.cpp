@@ -8,7 +8,10 @@
 #include <map>
 #include <mutex>
 #include <sstream>
+#include <stdexcept>
 #include <thread>
+
+#include "tread_wear/diagnosis/user_mechanisms.h"
 
 #include "tread_wear/diagnosis/statistics.h"
 
@@ -31,7 +34,12 @@ std::vector<std::pair<std::string, double>> magnitudes(Term t, bool two) {
     case Term::kLoadFluctuation: return {{"small", 0.25}, {"large", 0.40}};
     case Term::kSensorGain: return {{"small", 1.05}, {"large", 1.10}};
     case Term::kSensorOffset: return {{"small", 2.5}, {"large", 5.0}};
-    default: return {{"default", defaultMagnitude(t)}};
+    default: {
+      const TermInfo& info = termInfo(t);
+      if (info.user && info.user->test_magnitudes.size() == 2)
+        return {{"small", info.user->test_magnitudes[0]}, {"large", info.user->test_magnitudes[1]}};
+      return {{"default", defaultMagnitude(t)}};
+    }
   }
 }
 
@@ -99,6 +107,9 @@ std::vector<HarnessCase> harnessCases(const HarnessOptions& options) {
     for (const std::string& e : effects) {
       Term t;
       if (!parseTerm(e, &t)) continue;
+      if (termInfo(t).primary >= 0 && std::isnan(defaultMagnitude(t)))
+        throw std::invalid_argument("effect '" + e + "' has no magnitudes for generated cases (test_magnitudes in " +
+                                    "its mechanisms file)");
       for (const auto& [label, mag] : magnitudes(t, options.two_magnitudes))
         for (int r = 0; r < options.repeats; ++r) {
           HarnessCase c;

@@ -6,6 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tread_wear/diagnosis/user_mechanisms.h"
+
 namespace tread_wear {
 namespace diagnosis {
 namespace {
@@ -67,8 +69,13 @@ nlohmann::json diagnosisDocument(const DiagnosisResult& r, const DiagnosisData& 
     nlohmann::json outputs = nlohmann::json::array();
     for (int o = 0; o < kNumOutputs; ++o)
       if (info.affects[o]) outputs.push_back(outputName(static_cast<Output>(o)));
-    terms.push_back({{"name", info.name}, {"statement", info.statement}, {"physical", info.physical},
-                     {"outputs", outputs}});
+    nlohmann::json parameters = nlohmann::json::array();
+    for (const TermParameterSpec& p : info.parameters)
+      parameters.push_back({{"name", p.name}, {"unit", p.unit}, {"no_effect", num(p.neutral)}});
+    nlohmann::json term{{"name", info.name}, {"statement", info.statement}, {"physical", info.physical},
+                        {"outputs", outputs}, {"parameters", parameters}};
+    if (info.user) term["defined_in"] = info.user->where();
+    terms.push_back(term);
   }
   j["explanation_terms"] = terms;
   nlohmann::json located = nlohmann::json::array(), tests = nlohmann::json::array();
@@ -89,8 +96,8 @@ nlohmann::json diagnosisDocument(const DiagnosisResult& r, const DiagnosisData& 
   j["close_alternatives"] = alternatives;
   nlohmann::json params = nlohmann::json::object();
   for (const ParameterEstimate& p : r.final_model.summary.parameters)
-    params[p.name] = {{"value", p.value}, {"std_error", num(p.std_error)}, {"lower", p.lower}, {"upper", p.upper},
-                      {"at_bound", p.atBound()}};
+    params[p.name] = {{"value", p.value}, {"std_error", num(p.std_error)}, {"unit", parameterUnit(p.name)},
+                      {"lower", p.lower}, {"upper", p.upper}, {"at_bound", p.atBound()}};
   j["parameters"] = params;
   j["condition_number"] = num(r.final_model.summary.condition_number);
   j["rmser_before"] = perOutput(r.base.rmser);
@@ -178,8 +185,8 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
   m << "- explanation: **" << r.explanation << "**\n";
   for (Term t : r.final_model.terms) {
     const TermInfo& info = termInfo(t);
-    m << "  - `" << info.name << "`" << (info.physical ? "" : " (sensor, not physics)") << ": " << info.statement
-      << "\n";
+    m << "  - `" << info.name << "`" << (info.physical ? "" : " (sensor, not physics)")
+      << (info.user ? " (user-defined, " + info.user->where() + ")" : "") << ": " << info.statement << "\n";
   }
   for (const CloseAlternative& a : r.close_alternatives)
     m << "- about as well supported: `" << a.model << "` instead of `" << a.instead_of << "` (AICc "
@@ -248,10 +255,11 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
     }
     m << "\nthermal_wear: sigma_T with T0 at the coldest run; load_fluctuation: multiples of the recorded load std.\n";
   }
-  m << "\n## Parameters of the selected model\n\n| parameter | value | std error | at bound |\n|---|---|---|---|\n";
+  m << "\n## Parameters of the selected model\n\n| parameter | unit | value | std error | at bound |\n"
+       "|---|---|---|---|---|\n";
   for (const ParameterEstimate& p : r.final_model.summary.parameters)
-    m << "| " << p.name << " | " << g(p.value, 5) << " | " << g(p.std_error, 3) << " | " << (p.atBound() ? "yes" : "")
-      << " |\n";
+    m << "| " << p.name << " | " << parameterUnit(p.name) << " | " << g(p.value, 5) << " | " << g(p.std_error, 3)
+      << " | " << (p.atBound() ? "yes" : "") << " |\n";
   m << "\nBase parameter shift once the terms were added: ";
   for (const char* name : {"w3_scale", "mu_scale"})
     m << name << " " << g(fittedValue(r.base, name), 4) << " -> " << g(fittedValue(r.final_model, name), 4) << "; ";

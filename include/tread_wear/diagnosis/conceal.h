@@ -1,7 +1,8 @@
 #pragma once
 /// @file conceal.h
-/// Concealed-effect generator: recordings from the model plus one hidden library term (extensions.h) and
-/// rig-like noise, with the answer kept apart, so that the diagnosis can be scored on cases with a known truth.
+/// Concealed-effect generator: recordings from the model plus one hidden library term (extensions.h: built-in or
+/// user-defined, user_mechanisms.h) and rig-like noise, with the answer kept apart, so that the diagnosis can be
+/// scored on cases with a known truth.
 ///
 /// Designs (the paper's Table 2 program on the Grip and Abrasion Test Stand, rig as turn slip, R_t = 60 mm):
 ///   table2  three groups (velocity 1/2/3 m/s; slip angle 5/10/15 deg; load 50/75/100 N; otherwise 2 m/s,
@@ -56,9 +57,12 @@ struct ConcealCase {
   ConcealAnswer answer;
 };
 
-/// Default magnitude of a term's primary parameter in generated cases.
+/// Default magnitude of a term's primary parameter in generated cases; for a user-defined term (user_mechanisms.h)
+/// the last of its test magnitudes, NaN without them (ConcealSpec::magnitude is then needed).
 double defaultMagnitude(Term term);
-/// Generates one case. @throw std::invalid_argument for an invalid spec or an unknown effect.
+/// Generates one case. @throw std::invalid_argument for an invalid spec, an unknown effect or a user-defined one
+/// without a magnitude or that the design cannot show; DiagnosisError for a user-defined one that does not reduce
+/// to the model at its no-effect values.
 ConcealCase concealEffect(const TireParams& base, const ConcealSpec& spec);
 }  // namespace diagnosis
 }  // namespace tread_wear

@@ -12,7 +12,8 @@
 ///     output itself (a sensor gain or offset follows it): Spearman's rho with the OLS slope and the change over
 ///     the observed range for numeric covariates, eta^2 and the largest group difference for categorical ones,
 ///     permutation p-values, Holm-adjusted over all tests of both outputs (family-wise alpha_locate).
-///  4. Explain: forward selection over the library. At each step every applicable term not yet in the model is
+///  4. Explain: forward selection over the library (built-in and user-defined terms alike). At each step every
+///     applicable term not yet in the model is
 ///     added and fitted (starting from the current solution; thermal_wear from three starts); a term is eligible
 ///     when its partial F test against the current model has p < alpha_select / (terms tried) (Bonferroni) and
 ///     AICc drops by at least min_aicc_drop; of the eligible, up to max_cv_candidates with the lowest AICc are
@@ -145,7 +146,8 @@ struct DiagnosisResult {
 DetectabilityOptions detectabilityOptions(const DiagnosisOptions& diagnosis, double wear_noise_rsd,
                                           double side_force_noise_n);
 
-/// Runs the whole diagnosis. @throw std::invalid_argument for invalid options or parameters.
+/// Runs the whole diagnosis. @throw std::invalid_argument for invalid options or parameters; DiagnosisError for an
+/// applicable user-defined term that does not reduce to the model at its no-effect values (user_mechanisms.h).
 DiagnosisResult diagnose(const TireParams& base, const DiagnosisData& data, const DiagnosisOptions& options);
 
 /// Relative residuals predicted/measured - 1 of one output (NaN where not measured).

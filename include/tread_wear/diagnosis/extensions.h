@@ -16,6 +16,8 @@
 ///   turn_slip_orientation  the other orientation of alpha against the track curve          side force, wear
 ///   sensor_gain          measured Fy = g Fy (force transducer gain; not physics)           side force
 ///   sensor_offset        measured Fy = Fy + o (force transducer zero offset; not physics)  side force
+/// User-defined mechanisms (user_mechanisms.h) follow the built-in terms in the library (Term::kFirstUser on) and
+/// are applied after them, in the order of the model's terms.
 /// W_r splits exactly into the w3 part and the w4 part w4 4ab/V (Eq 19-20: w4 acts on the whole patch), so the
 /// terms that scale w3 (w3_scale, thermal_wear, surface_polishing) are applied after the brush evaluation.
 /// Eq 23 for a normal load distribution is the integral of W_r(Fz) over N(mean, std^2); the paper's 10 N bins are
@@ -26,6 +28,7 @@
 /// Limits: steady state per run; the temperature is the recorded mean tread temperature of the run.
 
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -37,7 +40,9 @@
 namespace tread_wear {
 namespace diagnosis {
 
+/// A term of the library: the built-in terms, then the user-defined ones (kFirstUser + i).
 enum class Term {
+  kNone = -1,  ///< no term (e.g. a control without a hidden effect)
   kThermalWear = 0,
   kThermalFriction,
   kSurfacePolishing,
@@ -47,8 +52,11 @@ enum class Term {
   kTurnSlipOrientation,
   kSensorGain,
   kSensorOffset,
-  kCount
+  kFirstUser  ///< the first user-defined term, if any
 };
+
+struct UserMechanism;
+class MechanismEvaluator;
 
 struct TermParameterSpec {
   std::string name;   ///< e.g. "compliance_rad_per_n"
@@ -56,6 +64,7 @@ struct TermParameterSpec {
   double lower, upper;  ///< bounds [unit]
   bool log_scale;     ///< fit ln(value)
   double neutral;     ///< value at which the term has no effect [unit]; NaN when there is none (sigma_T -> inf)
+  std::string unit;   ///< e.g. "rad/N", "-" for a dimensionless one
 };
 
 struct TermInfo {
@@ -67,10 +76,15 @@ struct TermInfo {
   std::vector<TermParameterSpec> parameters;  ///< empty for turn_slip_orientation (a discrete switch)
   int primary;             ///< index of the parameter that measures the effect's size; -1 for none
   double temperature_ref_c = 23.0;  ///< thermal_friction reference temperature [degC] (the rig's ambient)
+  std::shared_ptr<const UserMechanism> user = nullptr;  ///< a user-defined mechanism's expression; null if built in
 };
 
-/// All terms, in enum order.
+/// All terms, in enum order: the built-in ones, then the user-defined ones.
 const std::vector<TermInfo>& termLibrary();
+/// Replaces the user-defined terms of the library by `user` (numbered from Term::kFirstUser on) and returns the
+/// previous ones. Not thread-safe, and it invalidates references into the library: call it before any diagnosis
+/// runs (user_mechanisms.h, MechanismsInUse).
+std::vector<TermInfo> setUserTerms(std::vector<TermInfo> user);
 const TermInfo& termInfo(Term term);
 /// Whether the term has a single parameter whose no-effect value is one of its bounds (the effect can only go
 /// one way: surface_polishing, lateral_compliance, load_fluctuation).
@@ -81,8 +95,11 @@ double primaryNeutral(Term term, const TireParams& base);
 /// Library name to term; false for an unknown name.
 bool parseTerm(const std::string& name, Term* term);
 /// Whether the data can show the term (temperatures recorded, sequence known, load std recorded, turn slip
-/// present, side force measured); otherwise *why_not says what is missing.
+/// present, side force measured; a user term's variables known on every run); otherwise *why_not says what is
+/// missing.
 bool termApplicable(Term term, const DiagnosisData& data, std::string* why_not);
+/// Unit of a model parameter by name (the base levels and every library term's), "" for an unknown name.
+std::string parameterUnit(const std::string& name);
 /// "a+b" for a combination, "none" for no term.
 std::string termsLabel(const std::vector<Term>& terms);
 
@@ -132,6 +149,8 @@ class ExtendedModel {
   std::vector<Term> terms_;
   std::vector<int> offsets_;
   int num_parameters_ = 0;
+  /// The active user terms' expressions with the offsets of their parameters, in the order of terms_.
+  std::vector<std::pair<int, std::shared_ptr<MechanismEvaluator>>> user_terms_;
   const DiagnosisData& data_;
   BrushOptions brush_options_;
   /// Brush results for the last few values of the brush-relevant parameters (the post-processing terms,

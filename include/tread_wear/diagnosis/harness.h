@@ -72,7 +72,8 @@ struct HarnessOptions {
   DiagnosisOptions diagnosis;
 };
 
-/// The case list of a harness run.
+/// The case list of a harness run. @throw std::invalid_argument for an effect without magnitudes (a user-defined
+/// term without test magnitudes).
 std::vector<HarnessCase> harnessCases(const HarnessOptions& options);
 /// Scores one diagnosed case against its answer.
 HarnessOutcome scoreCase(const HarnessCase& c, const ConcealAnswer& answer, const DiagnosisResult& result);
