@@ -6,7 +6,8 @@ For each play rate R: a private master, `roslaunch tread_wear replay.launch bag:
 (its default clock rate unless --clock-hz is given), the node's /diagnostics followed until the bag has ended
 (the clock reached the bag's end and stood still for 2 s) and one more report came,
 then one markdown table row: the /clock rate received, live vs offline loss per wheel, stale steps, time jumps,
-unaccounted time, the achieved play rate (bag span over the wall time between the first and the last clock change),
+unaccounted time, the achieved play rate (bag span over the wall time between the wheels' first and last step seen on
+`wear`),
 and how many wheel reports (after the loss began) and vehicle reports were not OK.
 
 Usage: bench/replay_live_vs_offline.py [--build _build] [--clock-hz HZ] RATE [RATE ...]
@@ -24,12 +25,14 @@ import time
 import rospy
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from rosgraph_msgs.msg import Clock
+from tread_wear.msg import VehicleWear
 
 REPO = pathlib.Path(__file__).resolve().parent.parent
 
 
 class Watch:
-    """The node's wheel reports (last values per wheel), its non-OK counts and the clock's first and last change."""
+    """The node's wheel reports (last values per wheel), its non-OK counts, the clock's message count and the first
+    and last change of the input time the wheels have stepped to (the stamp of `wear`)."""
 
     def __init__(self):
         self.wheels = {}
@@ -38,19 +41,28 @@ class Watch:
         self.last_report_wall = None
         self.first_clock_wall = None
         self.last_clock_wall = None
-        self.last_clock = None
         self.clock_messages = 0
+        self.first_clock_wall = None
+        self.first_step_wall = None
+        self.last_step_wall = None
+        self.last_step = None
         self.subscribers = [rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diagnostics, queue_size=100),
-                            rospy.Subscriber("/clock", Clock, self.on_clock, queue_size=1000)]
+                            rospy.Subscriber("/clock", Clock, self.on_clock, queue_size=1000),
+                            rospy.Subscriber("/wear", VehicleWear, self.on_wear, queue_size=100)]
 
     def on_clock(self, msg):
-        now = time.monotonic()
         self.clock_messages += 1
-        if self.last_clock is None or msg.clock != self.last_clock:
-            if self.first_clock_wall is None:
-                self.first_clock_wall = now
-            self.last_clock_wall = now
-            self.last_clock = msg.clock
+        if self.first_clock_wall is None:
+            self.first_clock_wall = time.monotonic()
+        self.last_clock_wall = time.monotonic()
+
+    def on_wear(self, msg):
+        if self.last_step is None or msg.header.stamp != self.last_step:
+            now = time.monotonic()
+            if self.first_step_wall is None and msg.header.stamp.to_sec() > 0.0:
+                self.first_step_wall = now
+            self.last_step_wall = now
+            self.last_step = msg.header.stamp
 
     def on_diagnostics(self, msg):
         for s in msg.status:
@@ -78,15 +90,14 @@ def replay(args, rate, offline, env):
     proc = subprocess.Popen(launch, env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
     watch = Watch()
     try:
-        # Until the bag has ended: the clock reached its end (it also stands still while rosbag play waits for the
-        # node) and stood still for 2 s, and a report came after that.
+        # Until the wheels have stepped to the bag's end (the player stays alive, so the clock runs on) and a report
+        # came after that.
+        period_s = 1.0 / update_rate_hz(rate)
         deadline = time.monotonic() + 60.0 + 2.0 * offline["duration_s"] / min(rate, 10.0)
         while time.monotonic() < deadline:
             time.sleep(0.5)
-            now = time.monotonic()
-            if watch.last_clock is not None and watch.last_clock.to_sec() >= offline["end_s"] - 0.5 and \
-                    now - watch.last_clock_wall > 2.0 and \
-                    watch.last_report_wall is not None and watch.last_report_wall > watch.last_clock_wall + 1.0:
+            if watch.last_step is not None and watch.last_step.to_sec() >= offline["end_s"] - period_s - 1e-6 and \
+                    watch.last_report_wall is not None and watch.last_report_wall > watch.last_step_wall + 1.0:
                 break
         else:
             print("rate %g: the replay did not finish in time" % rate, file=sys.stderr)
@@ -97,6 +108,11 @@ def replay(args, rate, offline, env):
         proc.wait(timeout=30)
         log.close()
     return watch
+
+
+def update_rate_hz(rate):
+    """replay.launch's default update_rate_hz at play rate `rate`."""
+    return min(100.0, max(5.0, 500.0 / rate))
 
 
 def offline_losses(build, bag, rate_hz):
@@ -139,7 +155,7 @@ def main():
                 continue
             live = losses(watch)
             deviation = ["%+.2f %%" % (100.0 * (live[n] / reference[n] - 1.0)) for n in reference if n in live]
-            update_hz = min(100.0, max(5.0, 500.0 / rate))  # replay.launch's default update_rate_hz
+            update_hz = update_rate_hz(rate)
             same_rate = offline_losses(build, args.bag, update_hz)
             worst_same = max((abs(live[n] / same_rate[n] - 1.0) for n in same_rate if n in live), default=float("nan"))
             stale = max(int(v["stale steps"]) for v in watch.wheels.values())
@@ -147,9 +163,10 @@ def main():
             jumps = "%d / %d" % (max(int(v["time jumps forward"]) for v in watch.wheels.values()),
                                  max(int(v["time jumps backward"]) for v in watch.wheels.values()))
             unaccounted = max(float(v["unaccounted time [s]"]) for v in watch.wheels.values())
-            span = (watch.last_clock_wall or 0.0) - (watch.first_clock_wall or 0.0)
+            span = (watch.last_step_wall or 0.0) - (watch.first_step_wall or 0.0)
             achieved = offline["duration_s"] / span if span > 0.0 else 0.0
-            clock_hz = watch.clock_messages / span if span > 0.0 else 0.0
+            clock_span = (watch.last_clock_wall or 0.0) - (watch.first_clock_wall or 0.0)
+            clock_hz = watch.clock_messages / clock_span if clock_span > 0.0 else 0.0
             print("| %g | %g | %.0f | %s | %.4f %% | %d | %d | %s | %.2f | %.0f | %d / %d |" % (
                 rate, update_hz, clock_hz, ", ".join(deviation), 100.0 * worst_same, stale, past, jumps, unaccounted,
                 achieved,

@@ -22,7 +22,8 @@ target_compile_definitions(${PROJECT_NAME}_vehicle_inputs PRIVATE TREAD_WEAR_SHA
 # line at catkin's python): the synthetic input publisher, the plots of the tools' outputs and the grid checks (which
 # run tread_wear_eval from TREAD_WEAR_BIN).
 catkin_install_python(PROGRAMS scripts/grid_convergence.py scripts/plot_diagnosis.py scripts/plot_drive.py
-                      scripts/plot_wear_characteristics.py scripts/publish_wheel_inputs.py scripts/wltc_grid_check.py
+                      scripts/plot_wear_characteristics.py scripts/publish_wheel_inputs.py scripts/replay_done.py
+                      scripts/wltc_grid_check.py
                       DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 # Not installed: the repository's own workflows, which run from a checkout (they change to the repository root, read
 # config/, data/ and examples/ there, and use a build directory such as _build): scripts/*.sh (main job, tests,
