@@ -23,6 +23,8 @@ std::string nodeHelp() {
          "  out  wear                             tread_wear/VehicleWear       all wheels and totals, every update\n"
          "  out  wear_markers                     visualization_msgs/MarkerArray  contact patches, marker_rate_hz\n"
          "  out  /diagnostics                     diagnostic_msgs/DiagnosticArray  wheels, vehicle, update loop, persistence\n"
+         "  out  input_progress (sim time)        tread_wear/InputProgress     inputs processed up to its stamp, for a "
+         "rate-controlled rosbag play (launch/replay.launch)\n"
          "  out  /tf_static                       tf2_msgs/TFMessage           base_frame -> wheels with position_m\n"
          "  out  wear_map (latched)               tread_wear/PlannerWearMap    per-wheel wear map over (v, a_x, a_y) "
          "for planners, rebuilt on a preset or tread temperature change\n"
@@ -36,7 +38,11 @@ std::string nodeHelp() {
          "\n"
          "Planner keys (~planner/...; config/vehicle_wheels.yaml): vehicle_params [path] (empty = planner off),\n"
          "wheel_names [4 names] = front_left front_right rear_left rear_right, build_map = true,\n"
-         "map_temperature_step_c [K] = 5, max_path_curvature_per_m [1/m] = 0.25, map_threads = 1\n";
+         "map_temperature_step_c [K] = 5, max_path_curvature_per_m [1/m] = 0.25, map_threads = 1\n"
+         "\n"
+         "Replay key (simulated time): ~replay_resume_service [service name] = \"\" : a paused rosbag play's pause service\n"
+         "(std_srvs/SetBool), called to resume it once every required input is connected (replay.launch sets\n"
+         "/player/pause_playback).\n";
 }
 
 }  // namespace tread_wear

@@ -113,6 +113,8 @@ bool TreadWearNode::initialize() {
                                                [this](const ros::WallTimerEvent&) { loop(); });
     progress_publisher_ = nh_.advertise<tread_wear::InputProgress>("input_progress", 10);
     pnh_.param<std::string>("replay_resume_service", resume_service_, "");
+    ROS_INFO("simulated time: wheels step on their inputs' stamps; replay_resume_service: %s",
+             resume_service_.empty() ? "(none)" : resume_service_.c_str());
     progress_start_ = connected_since_ = ros::WallTime::now();
     start_timer_ = nh_.createWallTimer(ros::WallDuration(0.05), [this](const ros::WallTimerEvent&) { startReplay(); });
     progress_timer_ = loop_nh.createWallTimer(ros::WallDuration(kProgressPeriod_s),
