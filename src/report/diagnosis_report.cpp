@@ -239,7 +239,8 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
   m << "| " << r.final_model.label << " | " << pct(r.final_model.rmser[0]) << " | " << pct(r.final_model.rmser[1])
     << " | " << pct(r.final_model.cv_rmser[0]) << " | " << pct(r.final_model.cv_rmser[1]) << " |\n\n";
   m << "Held out: " << r.cv_scheme << ". RMSER is Eq 24 of the paper.\n\n";
-  m << "## Where the base model misses (residual = predicted/measured - 1)\n\n";
+  m << "## Where the base model misses (tests on the residuals standardised by the noise model; effects in points of "
+       "predicted/measured - 1)\n\n";
   m << "Permutation tests, Holm-adjusted over all " << r.located_before.size() << " tests; ten smallest p-values:\n\n";
   for (const std::string& why : r.not_located) m << "Not tested: " << why << ".\n\n";
   m << "| output | covariate | kind | effect | p | p (Holm) |\n|---|---|---|---|---|---|\n";
