@@ -20,8 +20,9 @@ namespace diagnosis {
 int runConcealCli(int argc, const char* const argv[], std::ostream& out, std::ostream& err) {
   const char* usage_text =
       "usage: tread_wear_conceal --params FILE --effect NAME|none --runs OUT.csv --answer OUT.json [--magnitude X]\n"
-      "       [--design table2|small|low_slip] [--wear-noise RSD] [--force-noise N] [--seed N] [--orientation literal|flipped]\n"
-      "       [--generator-preset fast|standard|fine|reference] [--information [--preset fast|standard|fine|reference]]\n"
+      "       [--design table2|small|low_slip] [--wear-noise RSD] [--force-noise N] [--seed N]\n"
+      "       [--orientation literal|flipped] [--generator-preset fast|standard|fine|reference]\n"
+      "       [--information [--preset fast|standard|fine|reference]]\n"
       "       tread_wear_conceal --list\n";
   CommandLine a;
   std::string parse_error;

@@ -23,7 +23,8 @@ namespace {
 const char* const kDiagnoseUsage =
     "usage: tread_wear_diagnose --params FILE (--runs FILE.csv | --bag FILE.bag) --report DIR\n"
     "       [--orientation literal|flipped] [--preset auto|fast|standard|fine|reference]\n"
-    "       [--force-noise-model auto|additive|relative|combined] [--wear-noise-model auto|additive|relative|combined]\n"
+    "       [--force-noise-model auto|additive|relative|combined]\n"
+    "       [--wear-noise-model auto|additive|relative|combined]\n"
     "       [--candidates a,b,...]\n"
     "       [--max-terms N] [--alpha-locate X] [--alpha-select X] [--detection-power X] [--seed N]\n"
     "       [--plot-script PATH | --no-plots]\n";

@@ -20,13 +20,14 @@ int runHarnessCli(int argc, const char* const argv[], std::ostream& out, std::os
       "usage: tread_wear_diagnosis_harness --params FILE [--quick] [--design table2|small|low_slip] [--repeats N]\n"
       "       [--controls N] [--effects a,b] [--noise 0.05,0.10] [--one-magnitude] [--information] [--alpha-select X]\n"
       "       [--jobs N] [--seed N] [--csv OUT] [--preset auto|fast|standard|fine|reference]\n"
-      "       [--generator-preset fast|standard|fine|reference] [--force-noise-model auto|additive|relative|combined]\n"
+      "       [--generator-preset fast|standard|fine|reference]\n"
+      "       [--force-noise-model auto|additive|relative|combined]\n"
       "       [--wear-noise-model auto|additive|relative|combined]\n";
   CommandLine a;
   std::string parse_error;
   const bool parsed = a.parse(argc, argv,
-               {"params", "design", "repeats", "controls", "effects", "noise", "jobs", "seed", "csv", "alpha-select", "preset",
-                "generator-preset", "force-noise-model", "wear-noise-model"},
+               {"params", "design", "repeats", "controls", "effects", "noise", "jobs", "seed", "csv", "alpha-select",
+                "preset", "generator-preset", "force-noise-model", "wear-noise-model"},
                {"quick", "one-magnitude", "information"}, &parse_error);
   auto usage = [&](const std::string& msg) { return usageError(err, "tread_wear_diagnosis_harness", msg, usage_text); };
   if (a.help()) {

@@ -87,8 +87,9 @@ class Fitter {
       for (std::size_t i = 0; i < y.size(); ++i)
         if (std::isfinite(y[i])) {
           ss += y[i] * y[i];
-          const double w = (best.prediction.value(static_cast<Output>(o), static_cast<int>(i)) -
-                            data_.runs[i].measured[o]) / sigma(i, o);
+          const double w =
+              (best.prediction.value(static_cast<Output>(o), static_cast<int>(i)) - data_.runs[i].measured[o]) /
+              sigma(i, o);
           best.rss += w * w;
           ++m;
         }
@@ -169,7 +170,8 @@ class Fitter {
     sigma_.assign(data_.runs.size() * kNumOutputs, kNaN);
     for (std::size_t i = 0; i < data_.runs.size(); ++i)
       for (int o = 0; o < kNumOutputs; ++o)
-        if (std::isfinite(data_.runs[i].measured[o])) sigma_[i * kNumOutputs + o] = noise[o].sigma(data_.runs[i].measured[o]);
+        if (std::isfinite(data_.runs[i].measured[o]))
+          sigma_[i * kNumOutputs + o] = noise[o].sigma(data_.runs[i].measured[o]);
   }
 };
 
@@ -410,8 +412,8 @@ bool DiagnosisOptions::validate(std::string* error) const {
   if (!(numerics_limit > 0.0) || !std::isfinite(numerics_limit))
     return fail("numerics_limit = " + format(numerics_limit) + " must be finite and > 0");
   if (auto_preset && max_auto_preset < model.preset)
-    return fail(std::string("max_auto_preset = ") + presetName(max_auto_preset) + " must be at least model.preset = " +
-                presetName(model.preset));
+    return fail(std::string("max_auto_preset = ") + presetName(max_auto_preset) +
+                " must be at least model.preset = " + presetName(model.preset));
   if (!(detection_power >= 0.0 && detection_power < 1.0))
     return fail("detection_power = " + format(detection_power) + " must be in (0, 1), or 0 for none");
   std::string e;
@@ -530,8 +532,8 @@ DiagnosisResult diagnoseAtPreset(const TireParams& base, const DiagnosisData& da
     return fitter.fit(m.terms, valuesByName(m), true);
   };
   auto check = [&](const FittedModel& m) {
-    result.numerics.push_back(checkNumerics(base, data, options.model, m.terms, m.summary.values(), result.weights,
-                                            options.numerics_limit));
+    result.numerics.push_back(
+        checkNumerics(base, data, options.model, m.terms, m.summary.values(), result.weights, options.numerics_limit));
     return result.numerics.back().passed;
   };
 
@@ -673,13 +675,15 @@ DiagnosisResult diagnose(const TireParams& base, const DiagnosisData& data, cons
     DiagnosisResult r = diagnoseAtPreset(base, data, at, options.auto_preset);
     const NumericsCheck last = r.numerics.back();
     checks.insert(checks.end(), r.numerics.begin(), r.numerics.end());
-    const bool passed = std::all_of(r.numerics.begin(), r.numerics.end(), [](const NumericsCheck& c) { return c.passed; });
+    const bool passed =
+        std::all_of(r.numerics.begin(), r.numerics.end(), [](const NumericsCheck& c) { return c.passed; });
     if (passed || !options.auto_preset) {
       r.numerics = checks;
       if (!options.auto_preset) {
-        r.numerics_decision = std::string("preset ") + presetName(at.model.preset) + " (given): " +
-                              (passed ? "solver error small against the noise" : "solver error NOT small against the noise") +
-                              "; " + numericsSummary(last);
+        r.numerics_decision =
+            std::string("preset ") + presetName(at.model.preset) + " (given): " +
+            (passed ? "solver error small against the noise" : "solver error NOT small against the noise") + "; " +
+            numericsSummary(last);
         if (!passed)
           r.numerics_warning = std::string("the solver error of preset ") + presetName(at.model.preset) +
                                " is not small against the measurement noise (" + numericsSummary(last) +
@@ -699,7 +703,8 @@ DiagnosisResult diagnose(const TireParams& base, const DiagnosisData& data, cons
                            "(--preset reference) is possible but slow.");
     at.model.preset = finerPreset(at.model.preset);
     char why[160];
-    std::snprintf(why, sizeof why, " (lambda %.3g > %.3g at '%s')", last.noncentrality, last.limit, last.at_model.c_str());
+    std::snprintf(why, sizeof why, " (lambda %.3g > %.3g at '%s')", last.noncentrality, last.limit,
+                  last.at_model.c_str());
     path += why + std::string(" -> ") + presetName(at.model.preset);
   }
 }

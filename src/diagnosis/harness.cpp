@@ -224,8 +224,9 @@ std::vector<HarnessOutcome> runHarness(const TireParams& base, const HarnessOpti
 std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
   // Counts over cases; `n` counts the cases that ran (failed ones only in `errors`).
   struct Tally {
-    int n = 0, right = 0, named = 0, sensor_scored = 0, false_sensor = 0, pscored = 0, pok = 0, pok_relative = 0, pestimated = 0, pcovered = 0,
-        iscored = 0, iok = 0, all_met = 0, errors = 0, referenced = 0, reference_errors = 0;
+    int n = 0, right = 0, named = 0, sensor_scored = 0, false_sensor = 0, pscored = 0, pok = 0, pok_relative = 0,
+        pestimated = 0, pcovered = 0, iscored = 0, iok = 0, all_met = 0, errors = 0, referenced = 0,
+        reference_errors = 0;
     double expected_right = 0.0;  ///< sum of the cases' detectability references
     int parameter_referenced = 0;
     double expected_parameter = 0.0;  ///< sum of their reference_parameter_ok
@@ -353,10 +354,9 @@ std::string harnessCsv(const std::vector<HarnessOutcome>& outcomes) {
       << (o.parameter_scored ? std::to_string(o.parameter_ok_relative) : "") << ","
       << (o.c.spec.effect == "none" ? "" : std::to_string(o.all_met)) << "," << o.estimate << "," << o.truth << ","
       << o.std_error << "," << (o.parameter_estimated ? std::to_string(o.parameter_covered) : "") << ","
-      << (o.improved_scored ? std::to_string(o.improved) : "") << "," << o.cv_before[0] << "," << o.cv_before[1]
-      << "," << o.cv_after[0] << "," << o.cv_after[1] << "," << referenceCsv(o) << "," << o.preset << ","
-      << (o.sensor_scored ? std::to_string(o.false_sensor) : "") << "," << o.seconds << ",\""
-      << o.error << "\"\n";
+      << (o.improved_scored ? std::to_string(o.improved) : "") << "," << o.cv_before[0] << "," << o.cv_before[1] << ","
+      << o.cv_after[0] << "," << o.cv_after[1] << "," << referenceCsv(o) << "," << o.preset << ","
+      << (o.sensor_scored ? std::to_string(o.false_sensor) : "") << "," << o.seconds << ",\"" << o.error << "\"\n";
   return s.str();
 }
 

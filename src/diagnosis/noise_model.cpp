@@ -50,9 +50,12 @@ NoiseModel modelOf(NoiseKind kind, const ShapeFit& f) {
 
 const char* noiseKindName(NoiseKind kind) {
   switch (kind) {
-    case NoiseKind::kAdditive: return "additive";
-    case NoiseKind::kRelative: return "relative";
-    case NoiseKind::kCombined: return "combined";
+    case NoiseKind::kAdditive:
+      return "additive";
+    case NoiseKind::kRelative:
+      return "relative";
+    case NoiseKind::kCombined:
+      return "combined";
   }
   return "?";
 }

@@ -87,11 +87,18 @@ nlohmann::json numericsJson(const DiagnosisResult& r) {
                                                      {"max_relative_error", n.max_relative},
                                                      {"noncentrality_unprojected", n.noncentrality_raw}};
     }
-    checks.push_back({{"preset", presetName(c.preset)}, {"compared_with", presetName(c.finer)},
-                      {"checked", c.checked}, {"at_model", c.at_model}, {"noncentrality", c.noncentrality},
-                      {"limit", c.limit}, {"passed", c.passed}, {"outputs", outputs}});
+    checks.push_back({{"preset", presetName(c.preset)},
+                      {"compared_with", presetName(c.finer)},
+                      {"checked", c.checked},
+                      {"at_model", c.at_model},
+                      {"noncentrality", c.noncentrality},
+                      {"limit", c.limit},
+                      {"passed", c.passed},
+                      {"outputs", outputs}});
   }
-  return {{"preset", presetName(r.preset)}, {"decision", r.numerics_decision}, {"warning", r.numerics_warning},
+  return {{"preset", presetName(r.preset)},
+          {"decision", r.numerics_decision},
+          {"warning", r.numerics_warning},
           {"checks", checks}};
 }
 

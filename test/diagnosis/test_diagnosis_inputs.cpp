@@ -124,7 +124,8 @@ TEST(DiagnosisInputs, CliUsageErrors) {
   EXPECT_NE(noise.err.find("--force-noise-model must be auto, additive, relative or combined, got 'poisson'"),
             std::string::npos)
       << noise.err;
-  EXPECT_EQ(diagnoseCli({"--params", kParams, "--runs", "a.csv", "--report", "r", "--wear-noise-model", "gauss"}).code, 2);
+  EXPECT_EQ(diagnoseCli({"--params", kParams, "--runs", "a.csv", "--report", "r", "--wear-noise-model", "gauss"}).code,
+            2);
 }
 
 TEST(DiagnosisInputs, CliDataErrors) {

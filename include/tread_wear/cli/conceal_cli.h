@@ -9,7 +9,8 @@ namespace tread_wear {
 namespace diagnosis {
 
 /// tread_wear_conceal --params FILE --effect NAME|none --runs OUT.csv --answer OUT.json [--magnitude X]
-///     [--design table2|small|low_slip] [--wear-noise RSD] [--force-noise N] [--seed N] [--orientation literal|flipped]
+///     [--design table2|small|low_slip] [--wear-noise RSD] [--force-noise N] [--seed N]
+///     [--orientation literal|flipped]
 ///     [--generator-preset NAME]   (the preset that generates the truth; default reference, the converged grid)
 ///     [--information [--preset NAME]]   (also the case's detectability reference, detectability.h, on stdout and in
 ///                                        the answer, for a diagnosis at --preset, default fast)

@@ -15,10 +15,11 @@
 ///     in which both outputs' residuals have about unit variance. A relative model gives the error ratios of Eq 24
 ///     divided by one scale, the weighting before issue 26.
 ///  2. Base fit: w3_scale and mu_scale (extensions.h) by bounded least squares (least_squares.h).
-///  3. Locate: the base residuals of each output (standardised by the noise model) against every covariate (data.h) and against the predicted
-///     output itself (a sensor gain or offset follows it): Spearman's rho with the OLS slope and the change over
-///     the observed range for numeric covariates, eta^2 and the largest group difference for categorical ones,
-///     permutation p-values, Holm-adjusted over all tests of both outputs (family-wise alpha_locate).
+///  3. Locate: the base residuals of each output (standardised by the noise model) against every covariate
+///     (data.h) and against the predicted output itself (a sensor gain or offset follows it): Spearman's rho with
+///     the OLS slope and the change over the observed range for numeric covariates, eta^2 and the largest group
+///     difference for categorical ones (both in error-ratio points), permutation p-values, Holm-adjusted over all
+///     tests of both outputs (family-wise alpha_locate).
 ///  4. Explain: forward selection over the library. At each step every applicable term not yet in the model is
 ///     added and fitted (starting from the current solution; thermal_wear from three starts); a term is eligible
 ///     when its partial F test against the current model has p < alpha_select / (terms tried) (Bonferroni) and

@@ -79,7 +79,8 @@ struct HarnessOptions {
   bool information = false;                     ///< also each case's detectability reference (about a third more time)
   std::uint64_t seed = 1000;
   DiagnosisOptions diagnosis;
-  Preset generator_preset = Preset::kReference;  ///< preset that generates the recordings (its orientation: the diagnosis's)
+  /// Preset that generates the recordings (with the diagnosis's orientation)
+  Preset generator_preset = Preset::kReference;
 };
 
 /// The case list of a harness run.
