@@ -401,6 +401,22 @@ TEST(DiagnosisCli, DocumentedExampleWritesTheReport) {
     EXPECT_NEAR(shift["relative"].get<double>(),
                 shift["after"].get<double>() / shift["before"].get<double>() - 1.0, 1e-12) << name;
   }
+  // Issue 26: the preset decision and every check behind it, on stderr, in report.md and in diagnosis.json; the last
+  // check is at the explanation and passed (auto escalates until it does).
+  const nlohmann::json& numerics = j["numerics"];
+  EXPECT_NE(r.err.find(numerics["decision"].get<std::string>()), std::string::npos) << r.err;
+  EXPECT_NE(report.find("## Numerics and noise model"), std::string::npos);
+  ASSERT_FALSE(numerics["checks"].empty());
+  const nlohmann::json& last = numerics["checks"].back();
+  EXPECT_EQ(last["preset"], numerics["preset"]);
+  EXPECT_EQ(last["at_model"], "surface_polishing");
+  EXPECT_EQ(last["passed"], true);
+  EXPECT_LE(last["noncentrality"].get<double>(), last["limit"].get<double>());
+  for (const char* output : {"side_force", "wear"}) {
+    const nlohmann::json& noise = j["noise_models"][output];
+    EXPECT_TRUE(noise["kind"] == "additive" || noise["kind"] == "relative" || noise["kind"] == "combined") << output;
+    EXPECT_EQ(last["outputs"][output]["values"], 36) << output;
+  }
 }
 
 // A `none` prints what it rules out: each term's detection limits, as in diagnosis.json.
