@@ -70,8 +70,12 @@ NumericsCheck checkNumerics(const TireParams& base, const DiagnosisData& data, c
     std::vector<double> moved = values;
     moved[j] += h;
     Prediction pm;
-    if (!coarse.predict(moved, &pm))
-      throw std::invalid_argument("numerics check: the model '" + c.at_model + "' cannot be evaluated near its fit");
+    if (!coarse.predict(moved, &pm)) {  // outside the term's validity that way: the other way
+      h = -h;
+      moved[j] = values[j] + h;
+      if (!coarse.predict(moved, &pm))
+        throw std::invalid_argument("numerics check: the model '" + c.at_model + "' cannot be evaluated near its fit");
+    }
     for (int r = 0; r < m; ++r) {
       const auto [i, o] = rows[r];
       const Output out = static_cast<Output>(o);
