@@ -22,14 +22,15 @@ namespace diagnosis {
 int runConcealCli(int argc, const char* const argv[], std::ostream& out, std::ostream& err) {
   const char* usage_text =
       "usage: tread_wear_conceal --params FILE --effect NAME|none --runs OUT.csv --answer OUT.json [--magnitude X]\n"
-      "       [--design table2|small] [--wear-noise RSD] [--force-noise N] [--seed N] [--orientation literal|flipped]\n"
-      "       [--information] [--mechanisms FILE]\n"
+      "       [--design table2|small|low_slip] [--wear-noise RSD] [--force-noise N] [--seed N]\n"
+      "       [--orientation literal|flipped] [--generator-preset fast|standard|fine|reference]\n"
+      "       [--information [--preset fast|standard|fine|reference]] [--mechanisms FILE]\n"
       "       tread_wear_conceal --list [--mechanisms FILE]\n";
   CommandLine a;
   std::string parse_error;
   const bool parsed = a.parse(argc, argv,
                {"params", "effect", "runs", "answer", "magnitude", "design", "wear-noise", "force-noise",
-                "seed", "orientation", "preset", "mechanisms"},
+                "seed", "orientation", "preset", "generator-preset", "mechanisms"},
                {"list", "information"}, &parse_error);
   auto usage = [&](const std::string& msg) { return usageError(err, "tread_wear_conceal", msg, usage_text); };
   if (a.help()) {
@@ -63,7 +64,15 @@ int runConcealCli(int argc, const char* const argv[], std::ostream& out, std::os
   ConcealSpec spec;
   spec.effect = a.get("effect");
   spec.design = a.get("design", spec.design);
-  std::string e = applyModelOptions(a, &spec.model);
+  // The truth comes from the converged grid unless asked otherwise: finer than any preset a diagnosis chooses, so
+  // that the solver's own error is part of every proof (issue 26).
+  spec.model.preset = Preset::kReference;
+  std::string e = applyModelOptions(a, &spec.model, "generator-preset");
+  if (!e.empty()) return usage(e);
+  // The diagnosis whose detectability --information computes: the given preset, else auto's first (fast).
+  DiagnosisOptions diagnosis;
+  diagnosis.model.orientation = spec.model.orientation;
+  e = applyModelOptions(a, &diagnosis.model, "preset");
   if (!e.empty()) return usage(e);
   int seed = static_cast<int>(spec.seed);
   if (!a.number("magnitude", &spec.magnitude, &e) || !a.number("wear-noise", &spec.wear_noise_rsd, &e) ||
@@ -80,9 +89,6 @@ int runConcealCli(int argc, const char* const argv[], std::ostream& out, std::os
     const ConcealCase c = concealEffect(params, spec);
     std::optional<Detectability> reference;
     if (information) {
-      // The settings the harness uses for the same case: a default diagnosis of this model.
-      DiagnosisOptions diagnosis;
-      diagnosis.model = spec.model;
       const DetectabilityOptions d = detectabilityOptions(diagnosis, spec.wear_noise_rsd, spec.side_force_noise_n);
       reference = detectability(params, buildDiagnosisData(c.noise_free), spec.effect, d);
       out << "detectability reference: lambda " << reference->lambda << ", F-test power " << reference->power

@@ -24,9 +24,12 @@ namespace {
 
 const char* const kDiagnoseUsage =
     "usage: tread_wear_diagnose --params FILE (--runs FILE.csv | --bag FILE.bag) --report DIR\n"
-    "       [--orientation literal|flipped] [--preset fast|standard|fine|reference] [--candidates a,b,...]\n"
-    "       [--mechanisms FILE] [--max-terms N] [--alpha-locate X] [--alpha-select X] [--detection-power X]\n"
-    "       [--seed N] [--plot-script PATH | --no-plots]\n";
+    "       [--orientation literal|flipped] [--preset auto|fast|standard|fine|reference]\n"
+    "       [--force-noise-model auto|additive|relative|combined]\n"
+    "       [--wear-noise-model auto|additive|relative|combined]\n"
+    "       [--candidates a,b,...] [--mechanisms FILE]\n"
+    "       [--max-terms N] [--alpha-locate X] [--alpha-select X] [--detection-power X] [--seed N]\n"
+    "       [--plot-script PATH | --no-plots]\n";
 
 }  // namespace
 
@@ -36,7 +39,8 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
   std::string parse_error;
   const bool parsed = a.parse(argc, argv,
                {"params", "runs", "bag", "report", "orientation", "preset", "candidates", "max-terms",
-                "alpha-locate", "alpha-select", "detection-power", "seed", "plot-script", "mechanisms"},
+                "alpha-locate", "alpha-select", "detection-power", "seed", "plot-script", "force-noise-model",
+                "wear-noise-model", "mechanisms"},
                {"no-plots"}, &parse_error);
   auto usage = [&](const std::string& msg) { return usageError(err, "tread_wear_diagnose", msg, kDiagnoseUsage); };
   if (a.help()) {
@@ -50,7 +54,7 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
   if (a.has("bag") && !bag_reader)
     return usage("--bag: this build has no rosbag support (built without catkin's rosbag)");
   DiagnosisOptions opt;
-  std::string e = applyModelOptions(a, &opt.model);
+  std::string e = applyDiagnosisOptions(a, &opt);
   if (!e.empty()) return usage(e);
   std::optional<MechanismsInUse> mechanisms;  // user-defined terms join the library until the tool returns
   try {
@@ -85,6 +89,8 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
     DiagnosisData data = buildDiagnosisData(table);
     data.warnings = warnings;
     const DiagnosisResult result = diagnose(params, data, opt);
+    err << "tread_wear_diagnose: " << result.numerics_decision << "\n";
+    if (!result.numerics_warning.empty()) err << "tread_wear_diagnose: warning: " << result.numerics_warning << "\n";
     const std::filesystem::path dir(a.get("report"));
     std::filesystem::create_directories(dir);
     {

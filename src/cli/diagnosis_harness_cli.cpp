@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "tread_wear/cli/command_line.h"
+#include "tread_wear/cli/diagnosis_model_options.h"
 #include "tread_wear/diagnosis/harness.h"
 #include "tread_wear/diagnosis/user_mechanisms.h"
 #include "tread_wear/io/csv.h"
@@ -18,14 +19,17 @@ namespace diagnosis {
 
 int runHarnessCli(int argc, const char* const argv[], std::ostream& out, std::ostream& err) {
   const char* usage_text =
-      "usage: tread_wear_diagnosis_harness --params FILE [--quick] [--design table2|small] [--repeats N]\n"
+      "usage: tread_wear_diagnosis_harness --params FILE [--quick] [--design table2|small|low_slip] [--repeats N]\n"
       "       [--controls N] [--effects a,b] [--noise 0.05,0.10] [--one-magnitude] [--information] [--alpha-select X]\n"
-      "       [--jobs N] [--seed N] [--csv OUT] [--mechanisms FILE]\n";
+      "       [--jobs N] [--seed N] [--csv OUT] [--preset auto|fast|standard|fine|reference]\n"
+      "       [--generator-preset fast|standard|fine|reference]\n"
+      "       [--force-noise-model auto|additive|relative|combined]\n"
+      "       [--wear-noise-model auto|additive|relative|combined] [--mechanisms FILE]\n";
   CommandLine a;
   std::string parse_error;
   const bool parsed = a.parse(argc, argv,
                {"params", "design", "repeats", "controls", "effects", "noise", "jobs", "seed", "csv", "alpha-select",
-                "mechanisms"},
+                "preset", "generator-preset", "force-noise-model", "wear-noise-model", "mechanisms"},
                {"quick", "one-magnitude", "information"}, &parse_error);
   auto usage = [&](const std::string& msg) { return usageError(err, "tread_wear_diagnosis_harness", msg, usage_text); };
   if (a.help()) {
@@ -51,7 +55,11 @@ int runHarnessCli(int argc, const char* const argv[], std::ostream& out, std::os
     h.two_magnitudes = false;
   }
   h.design = a.get("design", h.design);
-  std::string e;
+  std::string e = applyDiagnosisOptions(a, &h.diagnosis);
+  if (!e.empty()) return usage(e);
+  if (a.has("generator-preset") && !parsePreset(a.get("generator-preset"), &h.generator_preset))
+    return usage(std::string("--generator-preset must be ") + kPresetChoices + ", got '" + a.get("generator-preset") +
+                 "'");
   int seed = static_cast<int>(h.seed);
   if (!a.integer("repeats", &h.repeats, &e) || !a.integer("controls", &h.control_repeats, &e) ||
       !a.integer("jobs", &h.jobs, &e) || !a.integer("seed", &seed, &e) ||
@@ -81,7 +89,8 @@ int runHarnessCli(int argc, const char* const argv[], std::ostream& out, std::os
     if (name != "none" && !parseTerm(name, &t)) return usage("--effects: '" + name + "' is not a library term");
     if (name != "none") h.effects.push_back(name);
   }
-  if (h.design != "table2" && h.design != "small") return usage("--design must be table2 or small");
+  if (h.design != "table2" && h.design != "small" && h.design != "low_slip")
+    return usage("--design must be table2, small or low_slip");
   try {
     const TireParams params = loadTireParams(a.get("params"));
     const std::vector<HarnessOutcome> outcomes = runHarness(params, h, &err);

@@ -28,6 +28,12 @@ const Condition kGroups[3][3] = {
     {{1, 10, 75, 900}, {2, 10, 75, 450}, {3, 10, 75, 300}},
     {{2, 5, 75, 897}, {2, 10, 75, 450}, {2, 15, 75, 303}},
     {{2, 10, 50, 450}, {2, 10, 75, 450}, {2, 10, 100, 450}}};
+/// The low-slip program: Table 2's groups around 3 deg instead of 10 deg (sideslip 1.5/3/6 deg), durations for the
+/// same lateral sliding distance (Eq 1).
+const Condition kLowSlipGroups[3][3] = {
+    {{1, 3, 75, 2987}, {2, 3, 75, 1493}, {3, 3, 75, 996}},
+    {{2, 1.5, 75, 2985}, {2, 3, 75, 1493}, {2, 6, 75, 748}},
+    {{2, 3, 50, 1493}, {2, 3, 75, 1493}, {2, 3, 100, 1493}}};
 const char* const kGroupNames[3] = {"velocity", "sideslip", "load"};
 
 std::string conditionId(const Condition& c) {
@@ -46,7 +52,8 @@ bool ConcealSpec::validate(std::string* error) const {
   Term t;
   if (effect != "none" && !parseTerm(effect, &t))
     return fail("effect = '" + effect + "' is not a library term or none");
-  if (design != "table2" && design != "small") return fail("design = '" + design + "' must be table2 or small");
+  if (design != "table2" && design != "small" && design != "low_slip")
+    return fail("design = '" + design + "' must be table2, small or low_slip");
   if (!(wear_noise_rsd >= 0.0) || wear_noise_rsd > 0.5) return fail("wear_noise_rsd must be in [0, 0.5]");
   if (!(side_force_noise_n >= 0.0)) return fail("side_force_noise_n must be >= 0");
   if (!std::isnan(magnitude) && !std::isfinite(magnitude)) return fail("magnitude must be finite");
@@ -96,7 +103,8 @@ ConcealCase concealEffect(const TireParams& base, const ConcealSpec& spec) {
   RunTable& table = out.table;
   table.covariate_names = {"duration_s", "ambient_c", "humidity_percent"};
   table.text_covariate_names = {"group"};
-  const int cycles_per_group = spec.design == "table2" ? 2 : 1;
+  const int cycles_per_group = spec.design == "small" ? 1 : 2;
+  const auto& groups = spec.design == "low_slip" ? kLowSlipGroups : kGroups;
   int cycle = 0, order = 0;
   for (int g = 0; g < 3; ++g)
     for (int c = 0; c < cycles_per_group; ++c) {
@@ -104,7 +112,7 @@ ConcealCase concealEffect(const TireParams& base, const ConcealSpec& spec) {
       const double ambient = 23.0 + kAmbientSpreadC * normal(rng);
       for (int rep = 0; rep < 2; ++rep)
         for (int k = 0; k < 3; ++k) {
-          const Condition& cond = kGroups[g][c % 2 == 0 ? k : 2 - k];
+          const Condition& cond = groups[g][c % 2 == 0 ? k : 2 - k];
           RunRecord r;
           r.op.speed_mps = cond.speed_mps;
           r.op.slip_angle_rad = -cond.alpha_deg * M_PI / 180.0;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
 #include <set>
@@ -46,9 +47,9 @@ std::string format(double v, int precision = 4) {
 
 class Fitter {
  public:
-  Fitter(const TireParams& base, const DiagnosisData& data, const DiagnosisOptions& options, const double* noise)
+  Fitter(const TireParams& base, const DiagnosisData& data, const DiagnosisOptions& options, const NoiseModel* noise)
       : base_(base), data_(data), options_(options) {
-    for (int o = 0; o < kNumOutputs; ++o) noise_[o] = noise[o];
+    setNoise(noise);
   }
 
   /// Fits base + terms, starting from `start` (values by parameter name) where given.
@@ -84,13 +85,16 @@ class Fitter {
       const std::vector<double> y = relativeResiduals(data_, best.prediction, static_cast<Output>(o));
       double ss = 0.0;
       int m = 0;
-      for (double v : y)
-        if (std::isfinite(v)) {
-          ss += v * v;
+      for (std::size_t i = 0; i < y.size(); ++i)
+        if (std::isfinite(y[i])) {
+          ss += y[i] * y[i];
+          const double w =
+              (best.prediction.value(static_cast<Output>(o), static_cast<int>(i)) - data_.runs[i].measured[o]) /
+              sigma(i, o);
+          best.rss += w * w;
           ++m;
         }
       best.rmser[o] = m > 0 ? std::sqrt(ss / m) : kNaN;
-      best.rss += ss / (noise_[o] * noise_[o]);
       best.n_residuals += m;
     }
     best.aicc = aicc(best.rss, best.n_residuals, best.k);
@@ -117,7 +121,8 @@ class Fitter {
         if (!std::isfinite(data_.runs[i].measured[o])) continue;
         const double r = cv.held_out_residuals[i * kNumOutputs + o];
         if (!std::isfinite(r)) continue;
-        ss[o] += r * r * noise_[o] * noise_[o];
+        const double relative = r * sigma(i, o) / data_.runs[i].measured[o];
+        ss[o] += relative * relative;
         weighted += r * r;
         double& run_loss = fitted->cv_run_loss[i];
         run_loss = (std::isfinite(run_loss) ? run_loss : 0.0) + r * r;
@@ -145,7 +150,8 @@ class Fitter {
         for (int o = 0; o < kNumOutputs; ++o) {
           const double meas = run.measured[o];
           residuals[k * kNumOutputs + o] =
-              std::isfinite(meas) ? (pred.value(static_cast<Output>(o), records[k]) / meas - 1.0) / noise_[o] : 0.0;
+              std::isfinite(meas) ? (pred.value(static_cast<Output>(o), records[k]) - meas) / sigma(records[k], o)
+                                  : 0.0;
         }
       }
       return true;
@@ -153,16 +159,49 @@ class Fitter {
     return problem;
   }
 
+  double sigma(std::size_t run, int output) const { return sigma_[run * kNumOutputs + output]; }
+
   const TireParams& base_;
   const DiagnosisData& data_;
   const DiagnosisOptions& options_;
-  double noise_[kNumOutputs];
+  std::vector<double> sigma_;  ///< noise std per run and output at the measured value [unit of the output]
 
  public:
-  void setNoise(const double* noise) {
-    for (int o = 0; o < kNumOutputs; ++o) noise_[o] = noise[o];
+  void setNoise(const NoiseModel* noise) {
+    sigma_.assign(data_.runs.size() * kNumOutputs, kNaN);
+    for (std::size_t i = 0; i < data_.runs.size(); ++i)
+      for (int o = 0; o < kNumOutputs; ++o)
+        if (std::isfinite(data_.runs[i].measured[o]))
+          sigma_[i * kNumOutputs + o] = noise[o].sigma(data_.runs[i].measured[o]);
   }
 };
+
+/// The repeats of output o as deviations for the noise model's selection (noise_model.h): a condition with n >= 2
+/// measured runs and sum of squared deviations SS about its mean gives n - 1 values sqrt(SS / (n - 1)) at the level
+/// of its mean (the likelihood of SS / sigma^2 ~ chi^2(n - 1) is that of n - 1 such values). False when the repeats
+/// have fewer than kMinRepeatDof degrees of freedom or their levels span less than kMinLevelSpan.
+bool repeatDeviations(const DiagnosisData& data, int o, std::vector<double>* e, std::vector<double>* y) {
+  std::map<std::string, std::vector<double>> groups;
+  for (const DiagnosisRun& r : data.runs)
+    if (std::isfinite(r.measured[o])) groups[r.condition].push_back(r.measured[o]);
+  e->clear();
+  y->clear();
+  double lo = INFINITY, hi = 0.0;
+  for (const auto& [name, v] : groups) {
+    if (v.size() < 2) continue;
+    double mean = 0.0, ss = 0.0;
+    for (double x : v) mean += x / static_cast<double>(v.size());
+    for (double x : v) ss += (x - mean) * (x - mean);
+    const double dev = std::sqrt(ss / static_cast<double>(v.size() - 1));
+    for (std::size_t k = 1; k < v.size(); ++k) {
+      e->push_back(dev);
+      y->push_back(mean);
+    }
+    lo = std::min(lo, std::abs(mean));
+    hi = std::max(hi, std::abs(mean));
+  }
+  return static_cast<int>(e->size()) >= kMinRepeatDof && hi >= kMinLevelSpan * lo;
+}
 
 /// Pooled relative spread of repeats (runs sharing a condition) per output, and its degrees of freedom.
 void pureError(const DiagnosisData& data, double* scale, int* dof) {
@@ -185,10 +224,27 @@ void pureError(const DiagnosisData& data, double* scale, int* dof) {
   }
 }
 
+/// Largest minus smallest group mean of y (labels 0..G-1).
+double largestGroupDifference(const std::vector<int>& labels, const std::vector<double>& y) {
+  std::map<int, std::pair<double, int>> sums;
+  for (std::size_t i = 0; i < y.size(); ++i) {
+    sums[labels[i]].first += y[i];
+    ++sums[labels[i]].second;
+  }
+  double lo = INFINITY, hi = -INFINITY;
+  for (const auto& [label, sum] : sums) {
+    lo = std::min(lo, sum.first / sum.second);
+    hi = std::max(hi, sum.first / sum.second);
+  }
+  return hi - lo;
+}
+
 /// Locating tests of both outputs' residuals of `model`; `not_tested` (if given) gets the outputs without tests
 /// and why.
-std::vector<LocatedEffect> locate(const DiagnosisData& data, const FittedModel& model, const DiagnosisOptions& options,
-                                  std::vector<std::string>* not_tested = nullptr) {
+/// The tests rank the residuals standardised by the noise model, (predicted - measured) / sigma (for a relative
+/// model the error ratios, scaled); slopes and group differences are reported in error-ratio points.
+std::vector<LocatedEffect> locate(const DiagnosisData& data, const FittedModel& model, const NoiseModel* noise,
+                                  const DiagnosisOptions& options, std::vector<std::string>* not_tested = nullptr) {
   const Prediction& prediction = model.prediction;
   std::vector<LocatedEffect> tests;
   std::uint64_t seed = options.seed;
@@ -209,8 +265,12 @@ std::vector<LocatedEffect> locate(const DiagnosisData& data, const FittedModel& 
       skip("reproduced within numerical resolution, nothing to locate");
       continue;
     }
-    std::vector<double> y;
-    for (int i : idx) y.push_back(res[i]);
+    std::vector<double> y, z;  // error ratios, standardised residuals
+    for (int i : idx) {
+      y.push_back(res[i]);
+      const double meas = data.runs[i].measured[o];
+      z.push_back((prediction.value(out, i) - meas) / noise[o].sigma(meas));
+    }
     std::vector<Covariate> covariates = data.covariates;
     std::vector<double> level;
     for (std::size_t i = 0; i < data.runs.size(); ++i) level.push_back(prediction.value(out, static_cast<int>(i)));
@@ -230,18 +290,18 @@ std::vector<LocatedEffect> locate(const DiagnosisData& data, const FittedModel& 
           labels.push_back(remap.emplace(l, static_cast<int>(remap.size())).first->second);
         }
         if (remap.size() < 2 || remap.size() * 2 > idx.size()) continue;
-        const GroupTest g = groupTest(labels, y, options.permutations, seed);
+        const GroupTest g = groupTest(labels, z, options.permutations, seed);
         e.eta_squared = g.eta_squared;
-        e.effect = g.max_difference;
+        e.effect = largestGroupDifference(labels, y);
         e.p_value = g.p_value;
       } else {
         std::vector<double> x;
         for (int i : idx) x.push_back(c.values[i]);
         if (std::adjacent_find(x.begin(), x.end(), std::not_equal_to<double>()) == x.end()) continue;
-        const TrendTest t = trendTest(x, y, options.permutations, seed);
+        const TrendTest t = trendTest(x, z, options.permutations, seed);
         e.rho = t.rho;
-        e.slope = t.slope;
-        e.effect = t.effect;
+        e.slope = olsSlope(x, y);
+        e.effect = e.slope * (*std::max_element(x.begin(), x.end()) - *std::min_element(x.begin(), x.end()));
         e.p_value = t.p_value;
       }
       tests.push_back(e);
@@ -350,6 +410,11 @@ bool DiagnosisOptions::validate(std::string* error) const {
   if (max_terms < 0) return fail("max_terms = " + std::to_string(max_terms) + " must be >= 0");
   if (max_cv_candidates < 1) return fail("max_cv_candidates = " + std::to_string(max_cv_candidates) + " must be >= 1");
   if (permutations < 99) return fail("permutations = " + std::to_string(permutations) + " must be >= 99");
+  if (!(numerics_limit > 0.0) || !std::isfinite(numerics_limit))
+    return fail("numerics_limit = " + format(numerics_limit) + " must be finite and > 0");
+  if (auto_preset && max_auto_preset < model.preset)
+    return fail(std::string("max_auto_preset = ") + presetName(max_auto_preset) +
+                " must be at least model.preset = " + presetName(model.preset));
   if (!(detection_power >= 0.0 && detection_power < 1.0))
     return fail("detection_power = " + format(detection_power) + " must be in (0, 1), or 0 for none");
   std::string e;
@@ -389,38 +454,100 @@ DetectabilityOptions detectabilityOptions(const DiagnosisOptions& diagnosis, dou
   return d;
 }
 
-DiagnosisResult diagnose(const TireParams& base, const DiagnosisData& data, const DiagnosisOptions& options) {
-  std::string error;
-  if (!options.validate(&error)) throw std::invalid_argument(error);
-  if (!base.validate(&error)) throw std::invalid_argument(error);
+namespace {
+
+/// The noise model of output o as selected (or given) on the repeats, else on the residuals of the fitted model.
+NoiseSelection noiseSelection(const DiagnosisData& data, const FittedModel& fitted, int o,
+                              const std::optional<NoiseKind>& given) {
+  std::vector<double> e, y;
+  std::string source;
+  if (repeatDeviations(data, o, &e, &y)) {
+    source = "repeats (" + std::to_string(e.size()) + " degrees of freedom)";
+  } else {
+    for (std::size_t i = 0; i < data.runs.size(); ++i) {
+      const double meas = data.runs[i].measured[o];
+      if (!std::isfinite(meas)) continue;
+      e.push_back(fitted.prediction.value(static_cast<Output>(o), static_cast<int>(i)) - meas);
+      y.push_back(meas);
+    }
+    source = "base-model residuals (" + std::to_string(e.size()) + " values)";
+  }
+  NoiseSelection s;
+  if (e.size() < 3) {  // too few to estimate: the relative model (the error ratios), sized by the residuals
+    s.model.relative = 1.0;
+    s.source = "too few values (" + std::to_string(e.size()) + "): relative";
+    return s;
+  }
+  s = given ? fitNoiseModel(*given, e, y) : selectNoiseModel(e, y);
+  s.source = source;
+  if (!(s.model.additive > 0.0 || s.model.relative > 0.0)) {  // exact values (noise-free): no size to select on
+    s.model = NoiseModel{};
+    s.model.relative = 1.0;
+    s.source += ", reproduced exactly: relative";
+  }
+  return s;
+}
+
+/// `shape` sized to the residuals of `fitted` (its weighted RMS is then 1), floored so that the RMS of sigma/|y|
+/// over the measured runs is at least kNoiseFloor.
+NoiseModel sizedNoise(const DiagnosisData& data, const FittedModel& fitted, const NoiseModel& shape, int o) {
+  double ss = 0.0, rel = 0.0;
+  int n = 0;
+  for (std::size_t i = 0; i < data.runs.size(); ++i) {
+    const double meas = data.runs[i].measured[o];
+    if (!std::isfinite(meas)) continue;
+    const double sigma = shape.sigma(meas);
+    const double w = (fitted.prediction.value(static_cast<Output>(o), static_cast<int>(i)) - meas) / sigma;
+    ss += w * w;
+    rel += sigma * sigma / (meas * meas);
+    ++n;
+  }
+  if (n == 0) return shape;
+  const double factor = std::sqrt(ss / n), relative_rms = std::sqrt(rel / n);
+  return shape.scaled(std::max(factor, kNoiseFloor[o] / relative_rms));
+}
+
+/// Runs steps 1-6 at options.model.preset, with the numerics check (step 0) at the base fit and at the final
+/// model; with `stop_on_failed_check`, returns right after a failed check at the base fit.
+DiagnosisResult diagnoseAtPreset(const TireParams& base, const DiagnosisData& data, const DiagnosisOptions& options,
+                                 bool stop_on_failed_check) {
   DiagnosisResult result;
+  result.preset = options.model.preset;
   result.cv_scheme = data.cv_scheme;
 
-  // 1. Weights: the current model's RMSER per output (floored); the repeats' pure error is reported beside it.
+  // 1. Weights: the relative model at the rig's typical size for the first base fit; then each output's noise
+  // model, sized to the current model's residuals. The repeats' relative pure error is reported beside.
   double pe[kNumOutputs];
   int dof[kNumOutputs];
   pureError(data, pe, dof);
   for (int o = 0; o < kNumOutputs; ++o) {
     result.pure_error[o] = pe[o];
     result.pure_error_dof[o] = dof[o];
-    result.noise_scale[o] = kDefaultNoise[o];
+    result.weights[o].relative = kDefaultNoise[o];
   }
-  Fitter fitter(base, data, options, result.noise_scale);
+  Fitter fitter(base, data, options, result.weights);
   auto reweight = [&](const FittedModel& m) {
     for (int o = 0; o < kNumOutputs; ++o)
-      if (std::isfinite(m.rmser[o])) result.noise_scale[o] = std::max(m.rmser[o], kNoiseFloor[o]);
-    fitter.setNoise(result.noise_scale);
+      if (std::isfinite(m.rmser[o])) result.weights[o] = sizedNoise(data, m, result.noise[o].model, o);
+    fitter.setNoise(result.weights);
     return fitter.fit(m.terms, valuesByName(m), true);
   };
+  auto check = [&](const FittedModel& m) {
+    result.numerics.push_back(
+        checkNumerics(base, data, options.model, m.terms, m.summary.values(), result.weights, options.numerics_limit));
+    return result.numerics.back().passed;
+  };
 
-  // 2. Base fit, then again with its own RMSER as the noise scale.
+  // 2. Base fit, then again with the noise models sized by its residuals.
   result.base = fitter.fit({}, {}, false);
   if (!result.base.usable)
     throw std::invalid_argument("the base model could not be fitted: " + result.base.summary.message);
+  for (int o = 0; o < kNumOutputs; ++o) result.noise[o] = noiseSelection(data, result.base, o, options.noise_kind[o]);
   result.base = reweight(result.base);
+  if (!check(result.base) && stop_on_failed_check) return result;
 
   // 3. Locate.
-  result.located_before = locate(data, result.base, options, &result.not_located);
+  result.located_before = locate(data, result.base, result.weights, options, &result.not_located);
 
   // 4. Explain: forward selection.
   std::vector<Term> pool;
@@ -504,7 +631,8 @@ DiagnosisResult diagnose(const TireParams& base, const DiagnosisData& data, cons
     current = reweight(fits[best]);
   }
   result.final_model = current;
-  result.located_after = locate(data, current, options, &result.not_located_after);
+  result.located_after = locate(data, current, result.weights, options, &result.not_located_after);
+  if (!current.terms.empty()) check(current);
 
   // 5. Verdict.
   const bool located = std::any_of(result.located_before.begin(), result.located_before.end(),
@@ -533,6 +661,55 @@ DiagnosisResult diagnose(const TireParams& base, const DiagnosisData& data, cons
                                               fittedValue(result.base, "mu_scale"), options.detection_power, d);
   }
   return result;
+}
+
+Preset finerPreset(Preset p) { return static_cast<Preset>(static_cast<int>(p) + 1); }
+
+}  // namespace
+
+DiagnosisResult diagnose(const TireParams& base, const DiagnosisData& data, const DiagnosisOptions& options) {
+  std::string error;
+  if (!options.validate(&error)) throw std::invalid_argument(error);
+  if (!base.validate(&error)) throw std::invalid_argument(error);
+  DiagnosisOptions at = options;
+  std::vector<NumericsCheck> checks;
+  std::string path = presetName(options.model.preset);
+  for (;;) {
+    DiagnosisResult r = diagnoseAtPreset(base, data, at, options.auto_preset);
+    const NumericsCheck last = r.numerics.back();
+    checks.insert(checks.end(), r.numerics.begin(), r.numerics.end());
+    const bool passed =
+        std::all_of(r.numerics.begin(), r.numerics.end(), [](const NumericsCheck& c) { return c.passed; });
+    if (passed || !options.auto_preset) {
+      r.numerics = checks;
+      if (!options.auto_preset) {
+        r.numerics_decision =
+            std::string("preset ") + presetName(at.model.preset) + " (given): " +
+            (passed ? "solver error small against the noise" : "solver error NOT small against the noise") + "; " +
+            numericsSummary(last);
+        if (!passed)
+          r.numerics_warning = std::string("the solver error of preset ") + presetName(at.model.preset) +
+                               " is not small against the measurement noise (" + numericsSummary(last) +
+                               "): the verdict may mistake numerics for physics; a finer --preset (or auto) is advised";
+      } else if (path == presetName(at.model.preset)) {
+        r.numerics_decision = "preset " + path + " kept: " + numericsSummary(last);
+      } else {
+        r.numerics_decision = "preset escalated " + path + ": " + numericsSummary(last);
+      }
+      return r;
+    }
+    if (at.model.preset >= options.max_auto_preset)
+      throw DiagnosisError(std::string("the solver error is too large against the measurement noise even at preset ") +
+                           presetName(at.model.preset) + " (the finest the diagnosis chooses; escalated " + path +
+                           "): " + numericsSummary(last) +
+                           ". The verdict would mistake numerics for physics; refusing. A diagnosis at a finer preset "
+                           "(--preset reference) is possible but slow.");
+    at.model.preset = finerPreset(at.model.preset);
+    char why[160];
+    std::snprintf(why, sizeof why, " (lambda %.3g > %.3g at '%s')", last.noncentrality, last.limit,
+                  last.at_model.c_str());
+    path += why + std::string(" -> ") + presetName(at.model.preset);
+  }
 }
 
 }  // namespace diagnosis

@@ -119,7 +119,7 @@ std::vector<HarnessCase> harnessCases(const HarnessOptions& options) {
           c.spec.wear_noise_rsd = wn;
           c.spec.side_force_noise_n = fn;
           c.spec.seed = ++seed;
-          c.spec.model = options.diagnosis.model;
+          c.spec.model = {options.generator_preset, options.diagnosis.model.orientation};
           c.magnitude_label = label;
           cases.push_back(c);
         }
@@ -131,7 +131,7 @@ std::vector<HarnessCase> harnessCases(const HarnessOptions& options) {
       c.spec.wear_noise_rsd = wn;
       c.spec.side_force_noise_n = fn;
       c.spec.seed = ++seed;
-      c.spec.model = options.diagnosis.model;
+      c.spec.model = {options.generator_preset, options.diagnosis.model.orientation};
       c.magnitude_label = "-";
       cases.push_back(c);
     }
@@ -146,13 +146,18 @@ HarnessOutcome scoreCase(const HarnessCase& c, const ConcealAnswer& answer, cons
   o.right = result.explanation == answer.effect;
   o.named = o.right || std::any_of(result.close_alternatives.begin(), result.close_alternatives.end(),
                                    [&](const CloseAlternative& a) { return a.model == answer.effect; });
+  o.preset = presetName(result.preset);
   for (int k = 0; k < kNumOutputs; ++k) {
     o.cv_before[k] = result.base.cv_rmser[k];
     o.cv_after[k] = result.final_model.cv_rmser[k];
   }
-  if (answer.effect == "none") return o;
-  Term t;
-  parseTerm(answer.effect, &t);
+  Term t = Term::kNone;
+  const bool has_effect = answer.effect != "none";
+  if (has_effect) parseTerm(answer.effect, &t);
+  o.sensor_scored = !has_effect || !termInfo(t).affects[static_cast<int>(Output::kSideForce)];
+  if (o.sensor_scored)
+    for (Term s : result.final_model.terms) o.false_sensor = o.false_sensor || !termInfo(s).physical;
+  if (!has_effect) return o;
   const TermInfo& info = termInfo(t);
   o.improved_scored = true;
   o.improved = true;
@@ -230,8 +235,9 @@ std::vector<HarnessOutcome> runHarness(const TireParams& base, const HarnessOpti
 std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
   // Counts over cases; `n` counts the cases that ran (failed ones only in `errors`).
   struct Tally {
-    int n = 0, right = 0, named = 0, pscored = 0, pok = 0, pok_relative = 0, pestimated = 0, pcovered = 0,
-        iscored = 0, iok = 0, all_met = 0, errors = 0, referenced = 0, reference_errors = 0;
+    int n = 0, right = 0, named = 0, sensor_scored = 0, false_sensor = 0, pscored = 0, pok = 0, pok_relative = 0,
+        pestimated = 0, pcovered = 0, iscored = 0, iok = 0, all_met = 0, errors = 0, referenced = 0,
+        reference_errors = 0;
     double expected_right = 0.0;  ///< sum of the cases' detectability references
     int parameter_referenced = 0;
     double expected_parameter = 0.0;  ///< sum of their reference_parameter_ok
@@ -244,6 +250,8 @@ std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
       ++n;
       right += o.right;
       named += o.named;
+      sensor_scored += o.sensor_scored;
+      false_sensor += o.false_sensor;
       pscored += o.parameter_scored;
       pok += o.parameter_ok;
       pok_relative += o.parameter_ok_relative;
@@ -325,7 +333,10 @@ std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
       << "truth| <= 0.25 |truth|) " << pctWithInterval(effects.pok_relative, effects.pscored)
       << "; right, parameter and improved in the same case " << pctWithInterval(effects.all_met, effects.n)
       << ". The hidden term named as the explanation or as a close alternative "
-      << pctWithInterval(effects.named, effects.n) << ".\n";
+      << pctWithInterval(effects.named, effects.n) << ". A sensor term named where the hidden effect does not "
+      << "touch the side force (controls, wear-only effects) "
+      << pctWithInterval(effects.false_sensor + controls.false_sensor, effects.sensor_scored + controls.sensor_scored)
+      << ".\n";
     if (information)
       s << "Detectability reference (a selector that knows the noise levels, detectability.h): expected right "
            "explanation "
@@ -346,7 +357,7 @@ std::string harnessCsv(const std::vector<HarnessOutcome>& outcomes) {
   s << "effect,magnitude_label,magnitude,wear_noise_rsd,side_force_noise_n,seed,explanation,right,named,parameter_ok,"
        "parameter_ok_relative,all_met,estimate,truth,std_error,covered,improved,cv_before_side_force,cv_before_wear,"
        "cv_after_side_force,cv_after_wear,reference_lambda,reference_power,reference_expected_right,"
-       "reference_parameter_ok,reference_top_wrong,reference_top_wrong_share,seconds,error\n";
+       "reference_parameter_ok,reference_top_wrong,reference_top_wrong_share,preset,false_sensor,seconds,error\n";
   for (const HarnessOutcome& o : outcomes)
     s << o.c.spec.effect << "," << o.c.magnitude_label << "," << o.c.spec.magnitude << "," << o.c.spec.wear_noise_rsd
       << "," << o.c.spec.side_force_noise_n << "," << o.c.spec.seed << "," << o.explanation << "," << o.right << ","
@@ -354,9 +365,9 @@ std::string harnessCsv(const std::vector<HarnessOutcome>& outcomes) {
       << (o.parameter_scored ? std::to_string(o.parameter_ok_relative) : "") << ","
       << (o.c.spec.effect == "none" ? "" : std::to_string(o.all_met)) << "," << o.estimate << "," << o.truth << ","
       << o.std_error << "," << (o.parameter_estimated ? std::to_string(o.parameter_covered) : "") << ","
-      << (o.improved_scored ? std::to_string(o.improved) : "") << "," << o.cv_before[0] << "," << o.cv_before[1]
-      << "," << o.cv_after[0] << "," << o.cv_after[1] << "," << referenceCsv(o) << "," << o.seconds << ",\""
-      << o.error << "\"\n";
+      << (o.improved_scored ? std::to_string(o.improved) : "") << "," << o.cv_before[0] << "," << o.cv_before[1] << ","
+      << o.cv_after[0] << "," << o.cv_after[1] << "," << referenceCsv(o) << "," << o.preset << ","
+      << (o.sensor_scored ? std::to_string(o.false_sensor) : "") << "," << o.seconds << ",\"" << o.error << "\"\n";
   return s.str();
 }
 

@@ -57,6 +57,53 @@ std::string effectText(const LocatedEffect& e) {
   return s.str();
 }
 
+/// Each output's noise model: as selected (kind, source, AICc of each kind) and as weighted in the last step.
+nlohmann::json noiseModelsJson(const DiagnosisResult& r) {
+  nlohmann::json j = nlohmann::json::object();
+  for (int o = 0; o < kNumOutputs; ++o) {
+    const NoiseSelection& s = r.noise[o];
+    const NoiseModel& w = r.weights[o];
+    nlohmann::json aicc = nlohmann::json::object();
+    for (int k = 0; k < kNumNoiseKinds; ++k) aicc[noiseKindName(static_cast<NoiseKind>(k))] = num(s.aicc[k]);
+    j[outputName(static_cast<Output>(o))] = {{"kind", noiseKindName(s.model.kind)},
+                                             {"selected_by_aicc", s.selected},
+                                             {"source", s.source},
+                                             {"aicc", aicc},
+                                             {"combined_shape", s.combined_shape},
+                                             {"additive", w.additive},
+                                             {"relative", w.relative}};
+  }
+  return j;
+}
+
+/// The solver-error checks and the decision on the preset (numerics_check.h).
+nlohmann::json numericsJson(const DiagnosisResult& r) {
+  nlohmann::json checks = nlohmann::json::array();
+  for (const NumericsCheck& c : r.numerics) {
+    nlohmann::json outputs = nlohmann::json::object();
+    for (int o = 0; o < kNumOutputs; ++o) {
+      const NumericsOutput& n = c.outputs[o];
+      outputs[outputName(static_cast<Output>(o))] = {{"values", n.values},
+                                                     {"rms_error_in_noise_std", n.rms_in_noise},
+                                                     {"rms_relative_error", n.rms_relative},
+                                                     {"max_relative_error", n.max_relative},
+                                                     {"noncentrality_unprojected", n.noncentrality_raw}};
+    }
+    checks.push_back({{"preset", presetName(c.preset)},
+                      {"compared_with", presetName(c.finer)},
+                      {"checked", c.checked},
+                      {"at_model", c.at_model},
+                      {"noncentrality", c.noncentrality},
+                      {"limit", c.limit},
+                      {"passed", c.passed},
+                      {"outputs", outputs}});
+  }
+  return {{"preset", presetName(r.preset)},
+          {"decision", r.numerics_decision},
+          {"warning", r.numerics_warning},
+          {"checks", checks}};
+}
+
 /// The verdict and its evidence (diagnosisJson's document).
 nlohmann::json diagnosisDocument(const DiagnosisResult& r, const DiagnosisData& data) {
   nlohmann::json j;
@@ -126,7 +173,8 @@ nlohmann::json diagnosisDocument(const DiagnosisResult& r, const DiagnosisData& 
     cands.push_back(c);
   }
   j["candidates"] = cands;
-  j["noise_scale"] = perOutput(r.noise_scale);
+  j["noise_models"] = noiseModelsJson(r);
+  j["numerics"] = numericsJson(r);
   j["noise_left"] = {{"side_force_n", num(r.side_force_noise_n)}, {"wear_rsd", num(r.wear_noise_rsd)}};
   if (!r.detection_limits.empty()) {
     nlohmann::json limits = nlohmann::json::object();
@@ -205,7 +253,8 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
   m << "| " << r.final_model.label << " | " << pct(r.final_model.rmser[0]) << " | " << pct(r.final_model.rmser[1])
     << " | " << pct(r.final_model.cv_rmser[0]) << " | " << pct(r.final_model.cv_rmser[1]) << " |\n\n";
   m << "Held out: " << r.cv_scheme << ". RMSER is Eq 24 of the paper.\n\n";
-  m << "## Where the base model misses (residual = predicted/measured - 1)\n\n";
+  m << "## Where the base model misses (tests on the residuals standardised by the noise model; effects in points of "
+       "predicted/measured - 1)\n\n";
   m << "Permutation tests, Holm-adjusted over all " << r.located_before.size() << " tests; ten smallest p-values:\n\n";
   for (const std::string& why : r.not_located) m << "Not tested: " << why << ".\n\n";
   m << "| output | covariate | kind | effect | p | p (Holm) |\n|---|---|---|---|---|---|\n";
@@ -276,9 +325,27 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
     m << "\n## Plots\n\n";
     for (const std::string& p : plots) m << "![" << p << "](" << p << ")\n\n";
   }
-  m << "\nWeights: relative residuals divided by " << pct(r.noise_scale[0]) << " (side force) and "
-    << pct(r.noise_scale[1]) << " (wear); spread of repeats " << pct(r.pure_error[0]) << " / " << pct(r.pure_error[1])
-    << ". With few runs the F test and AICc are indicative only.\n";
+  m << "\n## Numerics and noise model\n\n";
+  m << "- preset: **" << presetName(r.preset) << "**: " << r.numerics_decision << "\n";
+  if (!r.numerics_warning.empty()) m << "- **warning**: " << r.numerics_warning << "\n";
+  for (const NumericsCheck& c : r.numerics)
+    if (c.checked)
+      m << "  - " << presetName(c.preset) << " vs " << presetName(c.finer) << " at `" << c.at_model << "`: lambda "
+        << g(c.noncentrality, 3) << " (limit " << g(c.limit, 3) << ", " << (c.passed ? "passed" : "failed")
+        << "); side force " << g(c.outputs[0].rms_in_noise, 3) << " noise std RMS (" << pct(c.outputs[0].rms_relative)
+        << " RMS, largest " << pct(c.outputs[0].max_relative) << "), wear " << g(c.outputs[1].rms_in_noise, 3)
+        << " noise std RMS (" << pct(c.outputs[1].rms_relative) << " RMS, largest " << pct(c.outputs[1].max_relative)
+        << ")\n";
+  for (int o = 0; o < kNumOutputs; ++o) {
+    const NoiseSelection& s = r.noise[o];
+    const NoiseModel& w = r.weights[o];
+    m << "- noise model of " << outputName(static_cast<Output>(o)) << ": **" << noiseKindName(s.model.kind) << "** ("
+      << (s.selected ? "lowest AICc" : "given") << " on " << s.source << "; AICc additive " << g(s.aicc[0], 5)
+      << ", relative " << g(s.aicc[1], 5) << ", combined " << g(s.aicc[2], 5) << "); weights sigma = sqrt("
+      << g(w.additive, 3) << "^2 + (" << g(w.relative, 3) << " y)^2)\n";
+  }
+  m << "\nSpread of repeats " << pct(r.pure_error[0]) << " / " << pct(r.pure_error[1])
+    << " (side force / wear, relative). With few runs the F test and AICc are indicative only.\n";
   return m.str();
 }
 

@@ -418,6 +418,7 @@ TEST(DiagnosisDetectionLimits, FiveWearOnlyRunsGiveNotesNotErrors) {
   c.table.runs.resize(5);
   for (RunRecord& r : c.table.runs) r.measured_side_force_n = std::nan("");
   DiagnosisOptions opt;
+  opt.auto_preset = false;  // generated at fast: the machinery, generator = diagnoser
   opt.permutations = 99;
   const DiagnosisResult r = diagnose(base, buildDiagnosisData(c.table), opt);
   EXPECT_EQ(r.explanation, "none");

@@ -113,6 +113,19 @@ TEST(DiagnosisInputs, CliUsageErrors) {
   EXPECT_EQ(power.code, 2);
   EXPECT_NE(power.err.find("detection_power = 1"), std::string::npos) << power.err;
   EXPECT_EQ(diagnoseCli({"--params", kParams, "--runs", "a.csv", "--report", "r", "stray"}).code, 2);
+  // Issue 26's options: a preset and a noise model that do not exist.
+  const CliResult preset = diagnoseCli({"--params", kParams, "--runs", "a.csv", "--report", "r", "--preset", "ultra"});
+  EXPECT_EQ(preset.code, 2);
+  EXPECT_NE(preset.err.find("--preset must be auto, fast"), std::string::npos) << preset.err;
+  EXPECT_NE(preset.err.find("'ultra'"), std::string::npos) << preset.err;
+  const CliResult noise =
+      diagnoseCli({"--params", kParams, "--runs", "a.csv", "--report", "r", "--force-noise-model", "poisson"});
+  EXPECT_EQ(noise.code, 2);
+  EXPECT_NE(noise.err.find("--force-noise-model must be auto, additive, relative or combined, got 'poisson'"),
+            std::string::npos)
+      << noise.err;
+  EXPECT_EQ(diagnoseCli({"--params", kParams, "--runs", "a.csv", "--report", "r", "--wear-noise-model", "gauss"}).code,
+            2);
 }
 
 TEST(DiagnosisInputs, CliDataErrors) {
@@ -160,7 +173,8 @@ TEST(DiagnosisInputs, ConcealWritesTheDetectabilityReference) {
   fs::create_directories(dir);
   const std::string runs = (dir / "runs.csv").string(), answer_path = (dir / "answer.json").string();
   const CliResult r = concealCli({"--params", kParams, "--effect", "sensor_offset", "--magnitude", "2", "--design",
-                                  "small", "--seed", "3", "--runs", runs, "--answer", answer_path, "--information"});
+                                  "small", "--seed", "3", "--runs", runs, "--answer", answer_path, "--information",
+                                  "--generator-preset", "fast"});  // the reference's model: the value exactly
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("detectability reference: lambda "), std::string::npos) << r.out;
   std::ifstream f(answer_path);
@@ -324,6 +338,12 @@ TEST(DiagnosisHarnessCli, RunsWithTheReferenceAndRejectsBadUsage) {
   EXPECT_EQ(harnessCli({"--params", kParams, "--repeats", "0"}).code, 2);
   EXPECT_EQ(harnessCli({"--params", kParams, "--effects", "magic"}).code, 2);
   EXPECT_EQ(harnessCli({"--params", kParams, "--noise", "0.9"}).code, 2);
+  const CliResult generator = harnessCli({"--params", kParams, "--generator-preset", "auto"});
+  EXPECT_EQ(generator.code, 2);
+  EXPECT_NE(generator.err.find("--generator-preset must be fast, standard, fine or reference, got 'auto'"),
+            std::string::npos)
+      << generator.err;
+  EXPECT_EQ(harnessCli({"--params", kParams, "--wear-noise-model", "additiv"}).code, 2);
   const CliResult alpha = harnessCli({"--params", kParams, "--alpha-select", "1.5"});
   EXPECT_EQ(alpha.code, 2);
   EXPECT_NE(alpha.err.find("alpha_select"), std::string::npos) << alpha.err;
@@ -380,6 +400,22 @@ TEST(DiagnosisCli, DocumentedExampleWritesTheReport) {
     const nlohmann::json& shift = j["base_parameter_shift"][name];
     EXPECT_NEAR(shift["relative"].get<double>(),
                 shift["after"].get<double>() / shift["before"].get<double>() - 1.0, 1e-12) << name;
+  }
+  // Issue 26: the preset decision and every check behind it, on stderr, in report.md and in diagnosis.json; the last
+  // check is at the explanation and passed (auto escalates until it does).
+  const nlohmann::json& numerics = j["numerics"];
+  EXPECT_NE(r.err.find(numerics["decision"].get<std::string>()), std::string::npos) << r.err;
+  EXPECT_NE(report.find("## Numerics and noise model"), std::string::npos);
+  ASSERT_FALSE(numerics["checks"].empty());
+  const nlohmann::json& last = numerics["checks"].back();
+  EXPECT_EQ(last["preset"], numerics["preset"]);
+  EXPECT_EQ(last["at_model"], "surface_polishing");
+  EXPECT_EQ(last["passed"], true);
+  EXPECT_LE(last["noncentrality"].get<double>(), last["limit"].get<double>());
+  for (const char* output : {"side_force", "wear"}) {
+    const nlohmann::json& noise = j["noise_models"][output];
+    EXPECT_TRUE(noise["kind"] == "additive" || noise["kind"] == "relative" || noise["kind"] == "combined") << output;
+    EXPECT_EQ(last["outputs"][output]["values"], 36) << output;
   }
 }
 

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <random>
 
 #include "tread_wear/diagnosis/conceal.h"
@@ -44,6 +45,7 @@ Recovery run(const std::string& effect, double magnitude, double wear_noise_rsd 
   const ConcealCase c = concealEffect(base, spec);
   const DiagnosisData data = buildDiagnosisData(c.table);
   DiagnosisOptions opt;
+  opt.auto_preset = false;  // generated at fast: the machinery, generator = diagnoser
   opt.max_terms = max_terms;  // default 1, single terms: enough to check that the hidden one wins
   opt.permutations = 999;
   opt.detection_power = detection_power;  // off unless asked: the selection is what these tests check
@@ -84,12 +86,15 @@ struct RigNoiseDiagnosis {
   DiagnosisResult result;
 };
 
-RigNoiseDiagnosis diagnoseRigNoiseCase(const std::string& effect, double magnitude, std::uint64_t seed) {
+RigNoiseDiagnosis diagnoseRigNoiseCase(const std::string& effect, double magnitude, std::uint64_t seed,
+                                       std::optional<NoiseKind> noise_kind = std::nullopt) {
   const TireParams base = loadTireParams(kGroschParams);
   RigNoiseDiagnosis d;
   d.spec = rigNoiseCase(effect, magnitude, seed);
   d.c = concealEffect(base, d.spec);
   d.options.seed = seed;
+  d.options.auto_preset = false;  // generated at fast: the machinery, generator = diagnoser
+  for (std::optional<NoiseKind>& kind : d.options.noise_kind) kind = noise_kind;
   d.options.detection_power = 0.0;
   d.result = diagnose(base, buildDiagnosisData(d.c.table), d.options);
   return d;
@@ -147,6 +152,7 @@ TEST(DiagnosisRecovery, RepeatedCandidateCountsOnce) {
   const TireParams base;
   const ConcealCase c = concealEffect(base, smallCase("sensor_offset", 4.0));
   DiagnosisOptions opt;
+  opt.auto_preset = false;  // generated at fast: the machinery, generator = diagnoser
   opt.max_terms = 1;
   opt.permutations = 999;
   opt.candidates = {Term::kSensorOffset, Term::kSensorOffset, Term::kSensorGain};
@@ -181,6 +187,7 @@ TEST(DiagnosisRecovery, EffectOutsideTheLibraryIsUnexplained) {
     run.measured_wear_rate_kg_per_m *= 1.0 + 0.8 * (h - 0.5);  // +-24% of wear, 24x the noise
   }
   DiagnosisOptions opt;
+  opt.auto_preset = false;  // generated at fast: the machinery, generator = diagnoser
   opt.max_terms = 1;  // default 9999 permutations: 999 cannot pass the Holm correction over every covariate
   const DiagnosisResult r = diagnose(base, buildDiagnosisData(c.table), opt);
   EXPECT_TRUE(r.mismatch_found);
@@ -209,8 +216,10 @@ TEST(DiagnosisRecovery, ChanceSecondTermIsNotAccepted) {
 // transducer fit the Table 2 program almost equally well (Fy is proportional to mu at the large slip angles, so
 // only the low-slip runs tell them apart). Whichever is chosen, the other is reported as a close alternative, and
 // scoring counts the hidden term as named though not as the explanation.
+// Under relative weights for both outputs (the weighting of that harness run; with the additive side-force noise
+// model that these repeats select, the offset is ahead by AICc 2.4 and no longer a close alternative).
 TEST(DiagnosisRecovery, IndistinguishableTermIsReportedAsCloseAlternative) {
-  const RigNoiseDiagnosis d = diagnoseRigNoiseCase("sensor_gain", 1.10, 5119);
+  const RigNoiseDiagnosis d = diagnoseRigNoiseCase("sensor_gain", 1.10, 5119, NoiseKind::kRelative);
   const DiagnosisResult& r = d.result;
   ASSERT_TRUE(r.explanation == "sensor_gain" || r.explanation == "sensor_offset") << r.explanation;
   const std::string other = r.explanation == "sensor_gain" ? "sensor_offset" : "sensor_gain";
@@ -251,6 +260,7 @@ TEST(DiagnosisRecovery, GenuinePairIsAccepted) {
     c.table.runs[i].measured_wear_rate_kg_per_m = pred.wear_kg_per_m[i] * (1.0 + spec.wear_noise_rsd * noise(rng));
   }
   DiagnosisOptions opt;
+  opt.auto_preset = false;  // generated at fast: the machinery, generator = diagnoser
   opt.seed = 1;
   const DiagnosisResult r = diagnose(base, buildDiagnosisData(c.table), opt);
   EXPECT_EQ(r.explanation, "thermal_friction+surface_polishing");

@@ -9,8 +9,11 @@ namespace tread_wear {
 namespace diagnosis {
 
 /// tread_wear_conceal --params FILE --effect NAME|none --runs OUT.csv --answer OUT.json [--magnitude X]
-///     [--design table2|small] [--wear-noise RSD] [--force-noise N] [--seed N] [--orientation literal|flipped]
-///     [--information]   (also the case's detectability reference, detectability.h, on stdout and in the answer)
+///     [--design table2|small|low_slip] [--wear-noise RSD] [--force-noise N] [--seed N]
+///     [--orientation literal|flipped]
+///     [--generator-preset NAME]   (the preset that generates the truth; default reference, the converged grid)
+///     [--information [--preset NAME]]   (also the case's detectability reference, detectability.h, on stdout and in
+///                                        the answer, for a diagnosis at --preset, default fast)
 /// tread_wear_conceal --list   prints the library (name, parameters, default magnitude, statement).
 int runConcealCli(int argc, const char* const argv[], std::ostream& out, std::ostream& err);
 

@@ -17,9 +17,13 @@ namespace diagnosis {
 using BagReader = std::function<RunTable(const std::string& bag_path)>;
 
 /// tread_wear_diagnose --params FILE (--runs FILE.csv | --bag FILE.bag) --report DIR
-///     [--orientation literal|flipped] [--preset fast|standard] [--candidates a,b,...] [--max-terms N]
-///     [--alpha-locate X] [--alpha-select X] [--seed N] [--plot-script PATH | --no-plots]
-/// Writes DIR/diagnosis.json, DIR/report.md, DIR/residuals.csv and (with the plot script) DIR/*.png.
+///     [--orientation literal|flipped] [--preset auto|fast|standard|fine|reference]
+///     [--force-noise-model auto|additive|relative|combined] [--wear-noise-model auto|additive|relative|combined]
+///     [--candidates a,b,...] [--max-terms N] [--alpha-locate X] [--alpha-select X] [--detection-power X] [--seed N]
+///     [--plot-script PATH | --no-plots]
+/// Writes DIR/diagnosis.json, DIR/report.md, DIR/residuals.csv and (with the plot script) DIR/*.png. The preset
+/// decision (diagnosis.h, step 0) goes to `err`, with a warning when a given preset fails its solver-error check; a
+/// refusal (even `fine` too coarse for the noise) is bad data, exit 1.
 /// `bag_reader` may be empty (built without rosbag): --bag is then a usage error. `default_plot_script` is used
 /// unless --plot-script or --no-plots is given; an empty or missing script skips the plots with a note.
 int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_reader,

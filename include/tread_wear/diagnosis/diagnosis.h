@@ -2,16 +2,24 @@
 /// @file diagnosis.h
 /// Mismatch diagnosis: where the base model and the recordings disagree, which physics is missing, and how much
 /// better the model gets with it (issue 7). Steps:
-///  1. Weights. Residuals are relative errors (Eq 24), y = predicted/measured - 1, divided by a noise scale per
-///     output: the current model's in-sample RMSER of that output (floors 0.5% side force, 1% wear), set after
-///     the base fit and after every accepted term, so that each F test compares models under one weighting in
-///     which both outputs' residuals have about unit variance. (The repeats' pure error would include the
-///     very drifts the diagnosis looks for, e.g. polishing between repeats; it is reported beside.)
+///  0. Numerics (numerics_check.h): at the base fit and at the final model, the preset's solver error at the
+///     recorded conditions must be small against the noise model's sigma (lambda_num <= numerics_limit). With
+///     auto_preset a failed check escalates to the next finer preset (fast -> standard -> fine) and the diagnosis
+///     starts again; beyond max_auto_preset it refuses (DiagnosisError). A given preset is kept and its failed
+///     check is reported (numerics_warning).
+///  1. Weights. Residuals are predicted - measured divided by the noise model's sigma (noise_model.h) at the
+///     measured value: each output's kind (additive, relative, combined) is selected by AICc on the repeats
+///     (enough of them over a range of levels), else on the base fit's residuals, or given (noise_kind). Its size
+///     is the current model's weighted RMS (floors: the RMS of sigma/|y| at least 0.5% side force, 1% wear), set
+///     after the base fit and after every accepted term, so that each F test compares models under one weighting
+///     in which both outputs' residuals have about unit variance. A relative model gives the error ratios of Eq 24
+///     divided by one scale, the weighting before issue 26.
 ///  2. Base fit: w3_scale and mu_scale (extensions.h) by bounded least squares (least_squares.h).
-///  3. Locate: the base residuals of each output against every covariate (data.h) and against the predicted
-///     output itself (a sensor gain or offset follows it): Spearman's rho with the OLS slope and the change over
-///     the observed range for numeric covariates, eta^2 and the largest group difference for categorical ones,
-///     permutation p-values, Holm-adjusted over all tests of both outputs (family-wise alpha_locate).
+///  3. Locate: the base residuals of each output (standardised by the noise model) against every covariate
+///     (data.h) and against the predicted output itself (a sensor gain or offset follows it): Spearman's rho with
+///     the OLS slope and the change over the observed range for numeric covariates, eta^2 and the largest group
+///     difference for categorical ones (both in error-ratio points), permutation p-values, Holm-adjusted over all
+///     tests of both outputs (family-wise alpha_locate).
 ///  4. Explain: forward selection over the library (built-in and user-defined terms alike). At each step every
 ///     applicable term not yet in the model is
 ///     added and fitted (starting from the current solution; thermal_wear from three starts); a term is eligible
@@ -37,19 +45,27 @@
 
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "tread_wear/diagnosis/data.h"
 #include "tread_wear/diagnosis/detectability.h"
 #include "tread_wear/diagnosis/extensions.h"
+#include "tread_wear/diagnosis/noise_model.h"
+#include "tread_wear/diagnosis/numerics_check.h"
 #include "tread_wear/fitting/least_squares.h"
 
 namespace tread_wear {
 namespace diagnosis {
 
 struct DiagnosisOptions {
-  ExtendedModelOptions model;      ///< preset and base orientation
+  ExtendedModelOptions model;      ///< preset (the first one tried with auto_preset) and base orientation
+  bool auto_preset = true;         ///< escalate while the numerics check fails (step 0); false: keep model.preset
+  Preset max_auto_preset = Preset::kFine;  ///< finest preset auto_preset may choose, >= model.preset
+  double numerics_limit = 1.0;     ///< largest lambda_num of the solver error (numerics_check.h), > 0
+  /// Noise model kind of each output (side force, wear); unset = selected by AICc (step 1)
+  std::optional<NoiseKind> noise_kind[kNumOutputs];
   double alpha_locate = 0.01;      ///< family-wise error rate of the locating tests (Holm) (0, 1)
   double alpha_select = 0.01;      ///< family-wise error rate of the term tests per step (Bonferroni), and the
                                    ///< level of the pair step's held-out rank test (0, 1)
@@ -118,7 +134,12 @@ struct CloseAlternative {
 };
 
 struct DiagnosisResult {
-  double noise_scale[kNumOutputs] = {0.0, 0.0};  ///< weights of the relative residuals in the last step [-]
+  Preset preset = Preset::kFast;                  ///< the preset of this result (after any escalation)
+  std::vector<NumericsCheck> numerics;            ///< every solver-error check, in order (step 0)
+  std::string numerics_decision;                  ///< in words: the preset kept or escalated, and why
+  std::string numerics_warning;                   ///< non-empty when a given preset failed its check
+  NoiseSelection noise[kNumOutputs];              ///< each output's noise model as selected (or given) in step 1
+  NoiseModel weights[kNumOutputs];                ///< the noise models of the last step's weights
   double pure_error[kNumOutputs] = {0.0, 0.0};    ///< pooled relative spread of repeats [-]; NaN without repeats
   int pure_error_dof[kNumOutputs] = {0, 0};       ///< its degrees of freedom
   std::string cv_scheme;
