@@ -39,12 +39,7 @@ int runConcealCli(int argc, const char* const argv[], std::ostream& out, std::os
   }
   if (!parsed) return usage(parse_error);
   std::optional<MechanismsInUse> mechanisms;  // user-defined terms join the library until the tool returns
-  try {
-    mechanisms.emplace(a.get("mechanisms"));
-  } catch (const std::exception& ex) {
-    err << "tread_wear_conceal: " << ex.what() << "\n";
-    return kExitData;
-  }
+  if (!useMechanisms(a, "tread_wear_conceal", err, &mechanisms)) return kExitData;
   if (a.has("list")) {
     for (const TermInfo& t : termLibrary()) {
       out << t.name << (t.physical ? "" : " (sensor)") << (t.user ? " (user-defined, " + t.user->where() + ")" : "")

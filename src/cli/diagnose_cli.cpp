@@ -57,12 +57,7 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
   std::string e = applyDiagnosisOptions(a, &opt);
   if (!e.empty()) return usage(e);
   std::optional<MechanismsInUse> mechanisms;  // user-defined terms join the library until the tool returns
-  try {
-    mechanisms.emplace(a.get("mechanisms"));
-  } catch (const std::exception& ex) {
-    err << "tread_wear_diagnose: " << ex.what() << "\n";
-    return kExitData;
-  }
+  if (!useMechanisms(a, "tread_wear_diagnose", err, &mechanisms)) return kExitData;
   for (const std::string& name : splitList(a.get("candidates"))) {
     Term t;
     if (!parseTerm(name, &t))

@@ -39,12 +39,7 @@ int runHarnessCli(int argc, const char* const argv[], std::ostream& out, std::os
   if (!parsed) return usage(parse_error);
   if (!a.has("params")) return usage("--params is required");
   std::optional<MechanismsInUse> mechanisms;  // user-defined terms join the library until the tool returns
-  try {
-    mechanisms.emplace(a.get("mechanisms"));
-  } catch (const std::exception& ex) {
-    err << "tread_wear_diagnosis_harness: " << ex.what() << "\n";
-    return kExitData;
-  }
+  if (!useMechanisms(a, "tread_wear_diagnosis_harness", err, &mechanisms)) return kExitData;
   HarnessOptions h;
   if (a.has("quick")) {
     // Small mode: the short design, one magnitude, two seeds, one noise level.

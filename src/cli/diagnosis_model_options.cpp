@@ -1,5 +1,7 @@
 #include "tread_wear/cli/diagnosis_model_options.h"
 
+#include <exception>
+
 #include "tread_wear/model/wear_model.h"
 
 namespace tread_wear {
@@ -32,6 +34,16 @@ std::string applyDiagnosisOptions(const CommandLine& a, DiagnosisOptions* d) {
     d->noise_kind[o] = kind;
   }
   return "";
+}
+
+bool useMechanisms(const CommandLine& a, const char* tool, std::ostream& err, std::optional<MechanismsInUse>* in_use) {
+  try {
+    in_use->emplace(a.get("mechanisms"));
+  } catch (const std::exception& ex) {
+    err << tool << ": " << ex.what() << "\n";
+    return false;
+  }
+  return true;
 }
 
 }  // namespace diagnosis
