@@ -520,6 +520,7 @@ DiagnosisResult diagnose(const TireParams& base, const DiagnosisData& data, cons
     result.explanation = "none";
   }
   result.mismatch_found = result.explanation != "none";
+  if (options.empirical) result.empirical = fitEmpiricalTerms(base, data, options, result);
 
   // 6. Detection limits at the noise the final model leaves.
   estimateNoise(data, current, &result.side_force_noise_n, &result.wear_noise_rsd);

@@ -48,6 +48,39 @@ std::string g(double v, int precision = 4) {
   return s.str();
 }
 
+/// The empirical step (empirical.h) for diagnosis.json: what was tried and the accepted term, if any.
+void addEmpirical(const EmpiricalResult& e, nlohmann::json* j) {
+  nlohmann::json terms = nlohmann::json::array();
+  for (const EmpiricalTerm& t : e.terms) {
+    nlohmann::json parameters = nlohmann::json::array();
+    for (const EmpiricalParameter& p : t.parameters)
+      parameters.push_back({{"name", p.name}, {"value", p.value}, {"std_error", num(p.std_error)}, {"unit", p.unit}});
+    terms.push_back({{"name", t.name},
+                     {"form", t.form},
+                     {"physical", false},
+                     {"statement", "empirical, not physics: no library mechanism matches"},
+                     {"covariate", t.covariate},
+                     {"output", outputName(t.output)},
+                     {"centre", t.centre},
+                     {"expression", t.expression},
+                     {"parameters", parameters},
+                     {"rmser_before", num(t.rmser_before)},
+                     {"rmser_after", num(t.rmser_after)},
+                     {"held_out_rmser_before", num(t.cv_rmser_before)},
+                     {"held_out_rmser_after", num(t.cv_rmser_after)},
+                     {"f_test_p", num(t.p_value)},
+                     {"aicc_drop", num(t.delta_aicc)},
+                     {"summary", empiricalSummary(t)}});
+  }
+  (*j)["empirical_terms"] = terms;
+  if (!e.attempted) return;
+  (*j)["empirical"] = {{"covariate", e.covariate},
+                       {"output", e.covariate.empty() ? nlohmann::json() : nlohmann::json(outputName(e.output))},
+                       {"family", e.family},
+                       {"reason", e.reason},
+                       {"selection", e.log}};
+}
+
 std::string effectText(const LocatedEffect& e) {
   std::ostringstream s;
   if (e.categorical)
@@ -94,6 +127,7 @@ nlohmann::json diagnosisDocument(const DiagnosisResult& r, const DiagnosisData& 
   for (const CloseAlternative& a : r.close_alternatives)
     alternatives.push_back({{"model", a.model}, {"instead_of", a.instead_of}, {"delta_aicc", a.delta_aicc}});
   j["close_alternatives"] = alternatives;
+  addEmpirical(r.empirical, &j);
   nlohmann::json params = nlohmann::json::object();
   for (const ParameterEstimate& p : r.final_model.summary.parameters)
     params[p.name] = {{"value", p.value}, {"std_error", num(p.std_error)}, {"unit", parameterUnit(p.name)},
@@ -198,6 +232,10 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
     for (const std::string& c : r.unexplained_covariates) m << " `" << c << "`";
     m << "\n";
   }
+  for (const EmpiricalTerm& t : r.empirical.terms)
+    m << "- empirical model (not physics): " << empiricalSummary(t) << "; no library mechanism matches\n";
+  if (r.empirical.attempted && r.empirical.terms.empty())
+    m << "- no empirical term: " << r.empirical.reason << "\n";
   for (const std::string& w : data.warnings) m << "- data warning: " << w << "\n";
   m << "\n| | side force RMSER | wear RMSER | side force held out | wear held out |\n|---|---|---|---|---|\n";
   m << "| base model (calibrated levels) | " << pct(r.base.rmser[0]) << " | " << pct(r.base.rmser[1]) << " | "
@@ -205,6 +243,23 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
   m << "| " << r.final_model.label << " | " << pct(r.final_model.rmser[0]) << " | " << pct(r.final_model.rmser[1])
     << " | " << pct(r.final_model.cv_rmser[0]) << " | " << pct(r.final_model.cv_rmser[1]) << " |\n\n";
   m << "Held out: " << r.cv_scheme << ". RMSER is Eq 24 of the paper.\n\n";
+  if (!r.empirical.terms.empty()) {
+    m << "## Empirical terms (not physics)\n\n";
+    m << "No library term explains the mismatch; the terms below describe the recordings in `" << r.empirical.covariate
+      << "` (family tried: ";
+    for (std::size_t i = 0; i < r.empirical.family.size(); ++i) m << (i ? ", " : "") << "`" << r.empirical.family[i] << "`";
+    m << "), selected as the library terms are (F test, AICc, held-out error).\n\n";
+    m << "| term | expression | parameters | F test p | AICc drop | RMSER | held out |\n|---|---|---|---|---|---|---|\n";
+    for (const EmpiricalTerm& t : r.empirical.terms) {
+      m << "| `" << t.name << "` | `" << t.expression << "` | ";
+      for (std::size_t i = 0; i < t.parameters.size(); ++i)
+        m << (i ? "; " : "") << t.parameters[i].name << " = " << g(t.parameters[i].value, 3) << " +- "
+          << g(t.parameters[i].std_error, 2) << " " << t.parameters[i].unit;
+      m << " | " << g(t.p_value, 2) << " | " << g(t.delta_aicc, 3) << " | " << pct(t.rmser_before) << " -> "
+        << pct(t.rmser_after) << " | " << pct(t.cv_rmser_before) << " -> " << pct(t.cv_rmser_after) << " |\n";
+    }
+    m << "\n";
+  }
   m << "## Where the base model misses (residual = predicted/measured - 1)\n\n";
   m << "Permutation tests, Holm-adjusted over all " << r.located_before.size() << " tests; ten smallest p-values:\n\n";
   for (const std::string& why : r.not_located) m << "Not tested: " << why << ".\n\n";

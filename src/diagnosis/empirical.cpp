@@ -1,0 +1,256 @@
+#include "tread_wear/diagnosis/empirical.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <sstream>
+
+#include "tread_wear/diagnosis/diagnosis.h"
+#include "tread_wear/diagnosis/user_mechanisms.h"
+
+namespace tread_wear {
+namespace diagnosis {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+/// Largest relative change of the output over the recorded range allowed to the linear term (the factor stays in
+/// [0.1, 1.9]); the quadratic splits it between its two parameters.
+constexpr double kMaxLinearChange = 0.9;
+/// Largest factor of the log-linear term over the recorded range (e^{+-ln 10}).
+constexpr double kMaxLogChange = 2.302585092994046;
+/// Saturating step: amplitude bounds [-] and time constant bounds as fractions of the covariate's range.
+constexpr double kStepAmplitudeLower = -0.9, kStepAmplitudeUpper = 2.0;
+constexpr double kStepTauLower = 0.05, kStepTauUpper = 2.0, kStepTauInitial = 0.25;
+/// Permutations of the restricted diagnosis's locating tests (their results are not used; the minimum allowed).
+constexpr int kInnerPermutations = 99;
+
+std::string exact(double v) {
+  std::ostringstream s;
+  s.precision(12);
+  s << v;
+  return s.str();
+}
+
+std::string brief(double v, int precision = 3) {
+  std::ostringstream s;
+  s.precision(precision);
+  s << v;
+  return s.str();
+}
+
+std::string percent(double v) {
+  std::ostringstream s;
+  s.setf(std::ios::fixed);
+  s.precision(1);
+  s << 100.0 * v << "%";
+  return s.str();
+}
+
+/// Unit of a covariate from its name's suffix (the package's naming rule), "unit" when unknown.
+std::string covariateUnit(const std::string& name) {
+  if (name == "run_order") return "run";
+  if (name == "slip_ratio") return "-";
+  static const std::vector<std::pair<std::string, std::string>> suffixes = {
+      {"_percent", "%"}, {"_per_m", "1/m"}, {"_mps", "m/s"}, {"_rad", "rad"}, {"_deg", "deg"}, {"_kg", "kg"},
+      {"_c", "degC"},    {"_n", "N"},       {"_m", "m"},     {"_s", "s"}};
+  for (const auto& [suffix, unit] : suffixes)
+    if (name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
+      return unit;
+  return "unit";
+}
+
+std::string perUnit(const std::string& unit, int power) {
+  if (unit == "-") return "-";
+  return "1/" + unit + (power > 1 ? "^" + std::to_string(power) : "");
+}
+
+/// One generated term: a user mechanism reading `covariate`.
+TermInfo makeTerm(const std::string& name, const std::string& statement, Output output, const std::string& covariate,
+                  bool operating_variable, const std::string& expression, std::vector<TermParameterSpec> parameters) {
+  TermInfo info;
+  info.term = Term::kNone;
+  info.name = name;
+  info.statement = statement;
+  info.physical = false;
+  info.affects[0] = output == Output::kSideForce;
+  info.affects[1] = output == Output::kWear;
+  info.parameters = std::move(parameters);
+  info.primary = 0;
+  auto user = std::make_shared<UserMechanism>();
+  user->file = "empirical";
+  user->expression = expression;
+  if (!operating_variable) user->covariates = {covariate};
+  user->data_variables = {covariate};
+  info.user = user;
+  return info;
+}
+
+}  // namespace
+
+std::vector<TermInfo> empiricalFamily(const DiagnosisData& data, const std::string& covariate, Output output,
+                                      std::string* why_not) {
+  auto none = [&](const std::string& why) {
+    if (why_not) *why_not = "'" + covariate + "': " + why;
+    return std::vector<TermInfo>{};
+  };
+  const auto c = std::find_if(data.covariates.begin(), data.covariates.end(),
+                              [&](const Covariate& v) { return v.name == covariate; });
+  if (c == data.covariates.end()) return none("not a covariate of the recordings (a column without variance is not one, data.h)");
+  if (c->categorical) return none("categorical: group offsets are not part of the empirical family yet");
+  const std::vector<std::string>& operating = operatingVariables();
+  const bool operating_variable = std::find(operating.begin(), operating.end(), covariate) != operating.end();
+  if (!operating_variable && c->kind != "recorded")
+    return none("derived (" + c->kind + "), not a variable an expression can read");
+  double sum = 0.0, lo = kNaN, hi = kNaN;
+  for (double x : c->values) {
+    if (!std::isfinite(x)) return none("not known for every run");
+    sum += x;
+    lo = std::isnan(lo) ? x : std::min(lo, x);
+    hi = std::isnan(hi) ? x : std::max(hi, x);
+  }
+  if (c->values.empty() || !(hi > lo))
+    return none("no variance on the runs (every value " + (c->values.empty() ? "missing" : exact(lo)) +
+                "): an empirical term in it cannot be told from the model's level");
+  const double m = sum / static_cast<double>(c->values.size());
+  const double d = std::max(hi - m, m - lo);
+  const std::string unit = covariateUnit(covariate);
+  const std::string dx = "(" + covariate + " - " + exact(m) + ")";
+  const std::string out = outputName(output);
+  const std::string what = "empirical, not physics: " + out + " ";
+  std::vector<TermInfo> family;
+  const std::string lin = "emp_lin_b";
+  family.push_back(makeTerm("empirical_linear_" + covariate, what + "linear in " + covariate, output, covariate,
+                            operating_variable, "output * (1 + " + lin + " * " + dx + ")",
+                            {{lin, 0.0, -kMaxLinearChange / d, kMaxLinearChange / d, false, 0.0, perUnit(unit, 1)}}));
+  const std::string q1 = "emp_quad_b1", q2 = "emp_quad_b2";
+  const double half = 0.5 * kMaxLinearChange;
+  family.push_back(makeTerm("empirical_quadratic_" + covariate, what + "quadratic in " + covariate, output, covariate,
+                            operating_variable,
+                            "output * (1 + " + q1 + " * " + dx + " + " + q2 + " * " + dx + "^2)",
+                            {{q1, 0.0, -half / d, half / d, false, 0.0, perUnit(unit, 1)},
+                             {q2, 0.0, -half / (d * d), half / (d * d), false, 0.0, perUnit(unit, 2)}}));
+  const std::string lg = "emp_log_b";
+  family.push_back(makeTerm("empirical_log_linear_" + covariate, what + "log-linear in " + covariate, output,
+                            covariate, operating_variable, "output * exp(" + lg + " * " + dx + ")",
+                            {{lg, 0.0, -kMaxLogChange / d, kMaxLogChange / d, false, 0.0, perUnit(unit, 1)}}));
+  if (c->kind == "sequence") {
+    const std::string a = "emp_step_a", tau = "emp_step_tau";
+    const double range = hi - lo;
+    family.push_back(makeTerm(
+        "empirical_saturating_step_" + covariate, what + "saturating step in " + covariate, output, covariate,
+        operating_variable,
+        "output * (1 + " + a + " * (1 - exp(-(" + covariate + " - " + exact(lo) + ") / " + tau + ")))",
+        {{a, 0.0, kStepAmplitudeLower, kStepAmplitudeUpper, false, 0.0, "-"},
+         {tau, kStepTauInitial * range, kStepTauLower * range, kStepTauUpper * range, true, kNaN, unit}}));
+  }
+  return family;
+}
+
+EmpiricalResult fitEmpiricalTerms(const TireParams& base, const DiagnosisData& data, const DiagnosisOptions& options,
+                                  const DiagnosisResult& result) {
+  EmpiricalResult out;
+  if (result.explanation != "unexplained") return out;
+  out.attempted = true;
+  std::vector<TermInfo> family;
+  std::string reasons;
+  for (const LocatedEffect& e : result.located_before) {  // sorted by p
+    if (!e.significant) continue;
+    std::string why;
+    family = empiricalFamily(data, e.covariate, e.output, &why);
+    if (!family.empty()) {
+      out.covariate = e.covariate;
+      out.output = e.output;
+      break;
+    }
+    reasons += (reasons.empty() ? "" : "; ") + why;
+  }
+  if (family.empty()) {
+    out.reason = "no located covariate an empirical term can be built in: " + reasons;
+    return out;
+  }
+  // The family joins this thread's library for the restricted diagnosis only.
+  std::vector<TermInfo> library = termLibrary();
+  DiagnosisOptions restricted = options;
+  restricted.candidates.clear();
+  for (TermInfo& t : family) {
+    t.term = static_cast<Term>(library.size());
+    restricted.candidates.push_back(t.term);
+    out.family.push_back(t.name);
+    library.push_back(t);
+  }
+  restricted.max_terms = 1;
+  restricted.detection_power = 0.0;
+  restricted.permutations = kInnerPermutations;
+  restricted.empirical = false;
+  struct Restore {
+    const std::vector<TermInfo>* previous;
+    ~Restore() { setThreadLibrary(previous); }
+  } restore{setThreadLibrary(&library)};
+  const DiagnosisResult r = diagnose(base, data, restricted);
+  out.log = r.log;
+  const int o = static_cast<int>(out.output);
+  if (r.final_model.terms.empty()) {
+    out.reason = "no empirical term in '" + out.covariate + "' improved the held-out error significantly (" +
+                 (r.log.empty() ? std::string("nothing fitted") : r.log.back()) + ")";
+    return out;
+  }
+  const TermInfo& info = termInfo(r.final_model.terms.front());
+  // The selection's statistics: the accepted fit under the base model's weights, beside the base model.
+  const auto selected = std::find_if(r.tried.begin(), r.tried.end(), [&](const FittedModel& f) {
+    return f.label == r.final_model.label && f.cv_done;
+  });
+  const FittedModel& fit = selected != r.tried.end() ? *selected : r.final_model;
+  EmpiricalTerm term;
+  term.name = info.name;
+  term.form = info.name.substr(std::string("empirical_").size(),
+                               info.name.size() - std::string("empirical_").size() - out.covariate.size() - 1);
+  term.covariate = out.covariate;
+  term.output = out.output;
+  term.expression = info.user->expression;
+  for (const Covariate& c : data.covariates)
+    if (c.name == out.covariate) {
+      double s = 0.0;
+      for (double x : c.values) s += x;
+      term.centre = s / static_cast<double>(c.values.size());
+    }
+  for (const TermParameterSpec& p : info.parameters) {
+    EmpiricalParameter ep;
+    ep.name = p.name;
+    ep.value = fittedValue(r.final_model, p.name, &ep.std_error);
+    ep.unit = p.unit;
+    term.parameters.push_back(ep);
+  }
+  term.rmser_before = r.base.rmser[o];
+  term.cv_rmser_before = r.base.cv_rmser[o];
+  term.rmser_after = fit.rmser[o];
+  term.cv_rmser_after = fit.cv_rmser[o];
+  term.p_value = fit.p_vs_parent;
+  term.delta_aicc = r.base.aicc - fit.aicc;
+  out.terms.push_back(term);
+  return out;
+}
+
+std::string empiricalSummary(const EmpiricalTerm& t) {
+  std::ostringstream s;
+  const std::string out = outputName(t.output);
+  const std::string dx = "(" + t.covariate + " - " + brief(t.centre, 4) + ")";
+  if (t.form == "linear") s << out << " x (1 + b " << dx << ")";
+  else if (t.form == "quadratic") s << out << " x (1 + b1 " << dx << " + b2 " << dx << "^2)";
+  else if (t.form == "log_linear") s << out << " x exp(b " << dx << ")";
+  else s << out << " x (1 + a (1 - exp(-(" << t.covariate << " - min) / tau)))";
+  const char* symbols_linear[] = {"b"};
+  const char* symbols_quadratic[] = {"b1", "b2"};
+  const char* symbols_step[] = {"a", "tau"};
+  const char* const* symbols =
+      t.form == "quadratic" ? symbols_quadratic : t.form == "saturating_step" ? symbols_step : symbols_linear;
+  for (std::size_t i = 0; i < t.parameters.size(); ++i) {
+    const EmpiricalParameter& p = t.parameters[i];
+    s << ", " << symbols[i] << " = " << brief(p.value) << " +- " << brief(p.std_error, 2) << " " << p.unit;
+  }
+  s << ", held-out " << out << " RMSER " << percent(t.cv_rmser_before) << " -> " << percent(t.cv_rmser_after);
+  return s.str();
+}
+
+}  // namespace diagnosis
+}  // namespace tread_wear
