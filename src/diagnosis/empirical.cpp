@@ -142,7 +142,9 @@ std::vector<TermInfo> empiricalFamily(const DiagnosisData& data, const std::stri
         operating_variable,
         "output * (1 + " + a + " * (1 - exp(-(" + covariate + " - " + exact(lo) + ") / " + tau + ")))",
         {{a, 0.0, kStepAmplitudeLower, kStepAmplitudeUpper, false, 0.0, "-"},
-         {tau, kStepTauInitial * range, kStepTauLower * range, kStepTauUpper * range, true, kNaN, unit}}));
+         // tau's no-effect value is any: a = 0 leaves the model whatever tau is
+         {tau, kStepTauInitial * range, kStepTauLower * range, kStepTauUpper * range, true, kStepTauInitial * range,
+          unit}}));
   }
   return family;
 }

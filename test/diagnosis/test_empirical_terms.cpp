@@ -147,6 +147,14 @@ TEST(EmpiricalTerms, CovariateWithoutVarianceGetsNoFamilyAndAReason) {
   EXPECT_NE(why.find("categorical"), std::string::npos) << why;
   EXPECT_TRUE(empiricalFamily(data, "abs_slip_angle_deg", Output::kWear, &why).empty());
   EXPECT_NE(why.find("not a variable an expression can read"), std::string::npos) << why;
-  // A sequence covariate gets the saturating step besides.
-  EXPECT_EQ(empiricalFamily(data, "run_order", Output::kWear, &why).size(), 4u) << why;
+  // A sequence covariate gets the saturating step besides; every term is the model at its no-effect values.
+  const std::vector<TermInfo> sequence = empiricalFamily(data, "run_order", Output::kWear, &why);
+  ASSERT_EQ(sequence.size(), 4u) << why;
+  EXPECT_EQ(sequence[3].name, "empirical_saturating_step_run_order");
+  Prediction model;
+  for (const DiagnosisRun& run : data.runs) {
+    model.side_force_n.push_back(run.measured[0]);
+    model.wear_kg_per_m.push_back(run.measured[kWear]);
+  }
+  for (const TermInfo& t : sequence) EXPECT_NO_THROW(checkNoEffect(t, data, model)) << t.name;
 }

@@ -15,6 +15,9 @@
 ///              uncertainties the tool reports honest? about 95% if they are); scored when the term was selected
 ///   improved   the held-out RMSER of every output the term affects is lower after than before
 ///   none       (controls) the verdict is "none"
+///   empirical  (out-of-library cases, HarnessOptions::out_of_library) the diagnosis, whose library lacks the hidden
+///              user-defined mechanism, gives an empirical term (empirical.h) in a covariate the mechanism reads,
+///              with a lower held-out RMSER of the output it affects than the base model's
 /// With HarnessOptions::information, each case also gets its detectability reference (detectability.h), computed
 /// on the case's own noise-free recordings: the probability that a selector knowing the noise levels names the
 /// hidden term. Its mean over the cases is the rate that the recordings allow, beside the rate measured. Likewise
@@ -36,6 +39,7 @@ namespace diagnosis {
 struct HarnessCase {
   ConcealSpec spec;
   std::string magnitude_label;  ///< "default", "small", "large"
+  bool out_of_library = false;  ///< diagnosed with the built-in library less the hidden term (scored: empirical)
 };
 
 struct HarnessOutcome {
@@ -50,6 +54,8 @@ struct HarnessOutcome {
   double estimate = std::numeric_limits<double>::quiet_NaN(), truth = std::numeric_limits<double>::quiet_NaN();
   double std_error = std::numeric_limits<double>::quiet_NaN();  ///< reported standard error of the estimate
   double cv_before[kNumOutputs] = {0.0, 0.0}, cv_after[kNumOutputs] = {0.0, 0.0};
+  bool empirical_scored = false, empirical_ok = false;  ///< out-of-library case; its criterion met
+  std::string empirical_covariate;  ///< covariate of the empirical term given, "" for none
   bool information = false;  ///< the reference below was computed
   Detectability reference;   ///< detectability of the hidden term on this case's noise-free recordings
   double reference_parameter_ok = std::numeric_limits<double>::quiet_NaN();  ///< probability, see above [-]
@@ -68,6 +74,9 @@ struct HarnessOptions {
   bool two_magnitudes = true;                   ///< small and large magnitude (else the default only)
   int jobs = 1;                                 ///< worker threads
   bool information = false;                     ///< also each case's detectability reference (about a third more time)
+  /// Out-of-library cases: every case (controls too) is diagnosed with the built-in library less the hidden term,
+  /// so that a hidden user-defined mechanism is one the library lacks (scored: empirical)
+  bool out_of_library = false;
   std::uint64_t seed = 1000;
   DiagnosisOptions diagnosis;
 };
