@@ -86,6 +86,36 @@ TermInfo makeTerm(const std::string& name, const std::string& statement, Output 
   return info;
 }
 
+/// Group offsets in a numbered categorical covariate (cycle_id): output (1 + d_g [x == g]) for every group g but
+/// the first, whose level the model's w3_scale carries.
+std::vector<TermInfo> groupOffsets(const DiagnosisData& data, const Covariate& c, Output output, std::string* why_not) {
+  std::vector<double> numbers;
+  for (std::size_t i = 0; i < data.runs.size(); ++i) {
+    const double x = data.runs[i].cycle >= 0 ? data.runs[i].cycle : kNaN;
+    if (!std::isfinite(x)) {
+      if (why_not) *why_not = "'" + c.name + "': not known for every run";
+      return {};
+    }
+    if (std::find(numbers.begin(), numbers.end(), x) == numbers.end()) numbers.push_back(x);
+  }
+  std::sort(numbers.begin(), numbers.end());
+  if (numbers.size() < 2) {
+    if (why_not) *why_not = "'" + c.name + "': no variance on the runs (one group): no offsets to fit";
+    return {};
+  }
+  std::string expression = "output * (1";
+  std::vector<TermParameterSpec> parameters;
+  for (std::size_t g = 1; g < numbers.size(); ++g) {
+    const std::string name = "emp_grp_d" + exact(numbers[g]);
+    expression += " + " + name + " * (" + c.name + " == " + exact(numbers[g]) + ")";
+    parameters.push_back({name, 0.0, kStepAmplitudeLower, kStepAmplitudeUpper, false, 0.0, "-"});
+  }
+  expression += ")";
+  return {makeTerm("empirical_group_offsets_" + c.name,
+                   "empirical, not physics: " + std::string(outputName(output)) + " offset per " + c.name, output,
+                   c.name, true, expression, std::move(parameters))};
+}
+
 }  // namespace
 
 std::vector<TermInfo> empiricalFamily(const DiagnosisData& data, const std::string& covariate, Output output,
@@ -97,9 +127,14 @@ std::vector<TermInfo> empiricalFamily(const DiagnosisData& data, const std::stri
   const auto c = std::find_if(data.covariates.begin(), data.covariates.end(),
                               [&](const Covariate& v) { return v.name == covariate; });
   if (c == data.covariates.end()) return none("not a covariate of the recordings (a column without variance is not one, data.h)");
-  if (c->categorical) return none("categorical: group offsets are not part of the empirical family yet");
   const std::vector<std::string>& operating = operatingVariables();
   const bool operating_variable = std::find(operating.begin(), operating.end(), covariate) != operating.end();
+  if (c->categorical) {
+    if (!operating_variable)
+      return none("categorical and not numbered: group offsets need the group's number in an expression (only "
+                  "cycle_id has one)");
+    return groupOffsets(data, *c, output, why_not);
+  }
   if (!operating_variable && c->kind != "recorded")
     return none("derived (" + c->kind + "), not a variable an expression can read");
   double sum = 0.0, lo = kNaN, hi = kNaN;
@@ -211,7 +246,7 @@ EmpiricalResult fitEmpiricalTerms(const TireParams& base, const DiagnosisData& d
   term.output = out.output;
   term.expression = info.user->expression;
   for (const Covariate& c : data.covariates)
-    if (c.name == out.covariate) {
+    if (c.name == out.covariate && !c.categorical) {
       double s = 0.0;
       for (double x : c.values) s += x;
       term.centre = s / static_cast<double>(c.values.size());
@@ -240,6 +275,7 @@ std::string empiricalSummary(const EmpiricalTerm& t) {
   if (t.form == "linear") s << out << " x (1 + b " << dx << ")";
   else if (t.form == "quadratic") s << out << " x (1 + b1 " << dx << " + b2 " << dx << "^2)";
   else if (t.form == "log_linear") s << out << " x exp(b " << dx << ")";
+  else if (t.form == "group_offsets") s << out << " x (1 + d_g) in group g of " << t.covariate << " (d = 0 in the first)";
   else s << out << " x (1 + a (1 - exp(-(" << t.covariate << " - min) / tau)))";
   const char* symbols_linear[] = {"b"};
   const char* symbols_quadratic[] = {"b1", "b2"};
@@ -248,7 +284,10 @@ std::string empiricalSummary(const EmpiricalTerm& t) {
       t.form == "quadratic" ? symbols_quadratic : t.form == "saturating_step" ? symbols_step : symbols_linear;
   for (std::size_t i = 0; i < t.parameters.size(); ++i) {
     const EmpiricalParameter& p = t.parameters[i];
-    s << ", " << symbols[i] << " = " << brief(p.value) << " +- " << brief(p.std_error, 2) << " " << p.unit;
+    const std::string symbol = t.form == "group_offsets" ? "d_" + p.name.substr(std::string("emp_grp_d").size())
+                                                         : std::string(symbols[i]);
+    s << ", " << symbol << " = " << brief(p.value) << " +- " << brief(p.std_error, 2)
+      << (p.unit == "-" ? "" : " " + p.unit);
   }
   s << ", held-out " << out << " RMSER " << percent(t.cv_rmser_before) << " -> " << percent(t.cv_rmser_after);
   return s.str();

@@ -143,8 +143,8 @@ TEST(EmpiricalTerms, CovariateWithoutVarianceGetsNoFamilyAndAReason) {
   data.covariates.push_back({"humidity_percent", "recorded", false, std::vector<double>(data.runs.size(), 45.0), {}});
   EXPECT_TRUE(empiricalFamily(data, "humidity_percent", Output::kWear, &why).empty());
   EXPECT_NE(why.find("no variance on the runs (every value 45)"), std::string::npos) << why;
-  EXPECT_TRUE(empiricalFamily(data, "cycle_id", Output::kWear, &why).empty());
-  EXPECT_NE(why.find("categorical"), std::string::npos) << why;
+  EXPECT_TRUE(empiricalFamily(data, "condition_id", Output::kWear, &why).empty());
+  EXPECT_NE(why.find("categorical and not numbered"), std::string::npos) << why;
   EXPECT_TRUE(empiricalFamily(data, "abs_slip_angle_deg", Output::kWear, &why).empty());
   EXPECT_NE(why.find("not a variable an expression can read"), std::string::npos) << why;
   // A sequence covariate gets the saturating step besides; every term is the model at its no-effect values.
@@ -157,4 +157,10 @@ TEST(EmpiricalTerms, CovariateWithoutVarianceGetsNoFamilyAndAReason) {
     model.wear_kg_per_m.push_back(run.measured[kWear]);
   }
   for (const TermInfo& t : sequence) EXPECT_NO_THROW(checkNoEffect(t, data, model)) << t.name;
+  // The cycles get one offset each but the first (the small design has three).
+  const std::vector<TermInfo> groups = empiricalFamily(data, "cycle_id", Output::kWear, &why);
+  ASSERT_EQ(groups.size(), 1u) << why;
+  EXPECT_EQ(groups[0].name, "empirical_group_offsets_cycle_id");
+  EXPECT_EQ(groups[0].parameters.size(), 2u);
+  EXPECT_NO_THROW(checkNoEffect(groups[0], data, model));
 }

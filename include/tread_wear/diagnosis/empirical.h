@@ -13,12 +13,14 @@
 ///   log_linear       output exp(b (x - m))                      |b| <= ln(10) / d
 ///   saturating_step  output (1 + a (1 - exp(-(x - x_min) / tau)))   sequence covariates only (run order,
 ///                    cumulative sliding): a in [-0.9, 2], tau in [range / 20, 2 range] (log scale)
+///   group_offsets    output (1 + d_g [cycle_id == g]) for every surface cycle g but the first (whose level w3_scale
+///                    carries): the one categorical covariate with a number an expression can read; d_g in [-0.9, 2]
 /// The bounds keep the factor within 0.1 and 1.9 over the recorded range (within a factor 10 for log_linear, and for
 /// the step up to a tripling): wide enough for any effect a rig would leave unexplained, narrow enough that the
 /// output stays positive. Parameters are per unit of the covariate as recorded (e.g. 1/% for humidity_percent).
 /// The covariate: the most significant located effect (smallest p) whose covariate an expression can read (an
-/// operating variable or a numeric recorded column; not the predicted output level, not a categorical one:
-/// group offsets are not part of the family yet, the result says so).
+/// operating variable or a numeric recorded column, or cycle_id; not the predicted output level, not another
+/// categorical one such as condition_id: the result says why).
 /// Thread safety: the family joins the calling thread's library only (extensions.h, setThreadLibrary).
 
 #include <string>
@@ -44,10 +46,10 @@ struct EmpiricalParameter {
 /// The empirical term the selection accepted.
 struct EmpiricalTerm {
   std::string name;        ///< e.g. "empirical_linear_humidity_percent"
-  std::string form;        ///< linear, quadratic, log_linear, saturating_step
+  std::string form;        ///< linear, quadratic, log_linear, saturating_step, group_offsets
   std::string covariate;
   Output output = Output::kWear;
-  double centre = 0.0;     ///< m, the covariate's mean over the runs [unit of the covariate]
+  double centre = 0.0;     ///< m, the covariate's mean over the runs [unit of the covariate]; 0 for group offsets
   std::string expression;  ///< as fitted (muparser syntax, `output` = the model's value)
   std::vector<EmpiricalParameter> parameters;
   double rmser_before = 0.0, rmser_after = 0.0;        ///< in sample, of the affected output [-]
