@@ -24,6 +24,8 @@ constexpr double kStepAmplitudeLower = -0.9, kStepAmplitudeUpper = 2.0;
 constexpr double kStepTauLower = 0.05, kStepTauUpper = 2.0, kStepTauInitial = 0.25;
 /// Permutations of the restricted diagnosis's locating tests (their results are not used; the minimum allowed).
 constexpr int kInnerPermutations = 99;
+/// Located covariates whose families are tried, in order of their locating p-value, until one term is accepted.
+constexpr int kMaxCovariates = 3;
 
 std::string exact(double v) {
   std::ostringstream s;
@@ -184,28 +186,12 @@ std::vector<TermInfo> empiricalFamily(const DiagnosisData& data, const std::stri
   return family;
 }
 
-EmpiricalResult fitEmpiricalTerms(const TireParams& base, const DiagnosisData& data, const DiagnosisOptions& options,
-                                  const DiagnosisResult& result) {
-  EmpiricalResult out;
-  if (result.explanation != "unexplained") return out;
-  out.attempted = true;
-  std::vector<TermInfo> family;
-  std::string reasons;
-  for (const LocatedEffect& e : result.located_before) {  // sorted by p
-    if (!e.significant) continue;
-    std::string why;
-    family = empiricalFamily(data, e.covariate, e.output, &why);
-    if (!family.empty()) {
-      out.covariate = e.covariate;
-      out.output = e.output;
-      break;
-    }
-    reasons += (reasons.empty() ? "" : "; ") + why;
-  }
-  if (family.empty()) {
-    out.reason = "no located covariate an empirical term can be built in: " + reasons;
-    return out;
-  }
+namespace {
+
+/// The restricted selection over one covariate's family: true and *term filled when one is accepted, else *why.
+bool selectFromFamily(const TireParams& base, const DiagnosisData& data, const DiagnosisOptions& options,
+                      std::vector<TermInfo> family, const std::string& covariate, Output output, EmpiricalTerm* term,
+                      std::vector<std::string>* log, std::string* why) {
   // The family joins this thread's library for the restricted diagnosis only.
   std::vector<TermInfo> library = termLibrary();
   DiagnosisOptions restricted = options;
@@ -213,7 +199,6 @@ EmpiricalResult fitEmpiricalTerms(const TireParams& base, const DiagnosisData& d
   for (TermInfo& t : family) {
     t.term = static_cast<Term>(library.size());
     restricted.candidates.push_back(t.term);
-    out.family.push_back(t.name);
     library.push_back(t);
   }
   restricted.max_terms = 1;
@@ -225,12 +210,11 @@ EmpiricalResult fitEmpiricalTerms(const TireParams& base, const DiagnosisData& d
     ~Restore() { setThreadLibrary(previous); }
   } restore{setThreadLibrary(&library)};
   const DiagnosisResult r = diagnose(base, data, restricted);
-  out.log = r.log;
-  const int o = static_cast<int>(out.output);
+  for (const std::string& l : r.log) log->push_back("'" + covariate + "' (" + data.cv_scheme + "): " + l);
+  const int o = static_cast<int>(output);
   if (r.final_model.terms.empty()) {
-    out.reason = "no empirical term in '" + out.covariate + "' improved the held-out error significantly (" +
-                 (r.log.empty() ? std::string("nothing fitted") : r.log.back()) + ")";
-    return out;
+    *why = "no empirical term in '" + covariate + "' improved the held-out error significantly";
+    return false;
   }
   const TermInfo& info = termInfo(r.final_model.terms.front());
   // The selection's statistics: the accepted fit under the base model's weights, beside the base model.
@@ -238,33 +222,75 @@ EmpiricalResult fitEmpiricalTerms(const TireParams& base, const DiagnosisData& d
     return f.label == r.final_model.label && f.cv_done;
   });
   const FittedModel& fit = selected != r.tried.end() ? *selected : r.final_model;
-  EmpiricalTerm term;
-  term.name = info.name;
-  term.form = info.name.substr(std::string("empirical_").size(),
-                               info.name.size() - std::string("empirical_").size() - out.covariate.size() - 1);
-  term.covariate = out.covariate;
-  term.output = out.output;
-  term.expression = info.user->expression;
+  term->name = info.name;
+  term->form = info.name.substr(std::string("empirical_").size(),
+                                info.name.size() - std::string("empirical_").size() - covariate.size() - 1);
+  term->covariate = covariate;
+  term->output = output;
+  term->expression = info.user->expression;
+  term->cv_scheme = data.cv_scheme;
   for (const Covariate& c : data.covariates)
-    if (c.name == out.covariate && !c.categorical) {
-      double s = 0.0;
-      for (double x : c.values) s += x;
-      term.centre = s / static_cast<double>(c.values.size());
+    if (c.name == covariate && !c.categorical) {
+      double sum = 0.0;
+      for (double x : c.values) sum += x;
+      term->centre = sum / static_cast<double>(c.values.size());
     }
   for (const TermParameterSpec& p : info.parameters) {
     EmpiricalParameter ep;
     ep.name = p.name;
     ep.value = fittedValue(r.final_model, p.name, &ep.std_error);
     ep.unit = p.unit;
-    term.parameters.push_back(ep);
+    term->parameters.push_back(ep);
   }
-  term.rmser_before = r.base.rmser[o];
-  term.cv_rmser_before = r.base.cv_rmser[o];
-  term.rmser_after = fit.rmser[o];
-  term.cv_rmser_after = fit.cv_rmser[o];
-  term.p_value = fit.p_vs_parent;
-  term.delta_aicc = r.base.aicc - fit.aicc;
-  out.terms.push_back(term);
+  term->rmser_before = r.base.rmser[o];
+  term->cv_rmser_before = r.base.cv_rmser[o];
+  term->rmser_after = fit.rmser[o];
+  term->cv_rmser_after = fit.cv_rmser[o];
+  term->p_value = fit.p_vs_parent;
+  term->delta_aicc = r.base.aicc - fit.aicc;
+  return true;
+}
+
+}  // namespace
+
+EmpiricalResult fitEmpiricalTerms(const TireParams& base, const DiagnosisData& data, const DiagnosisOptions& options,
+                                  const DiagnosisResult& result) {
+  EmpiricalResult out;
+  if (result.explanation != "unexplained") return out;
+  out.attempted = true;
+  std::vector<std::string> reasons;
+  for (const LocatedEffect& e : result.located_before) {  // sorted by p
+    if (!e.significant || static_cast<int>(out.covariates.size()) >= kMaxCovariates) continue;
+    if (std::find(out.covariates.begin(), out.covariates.end(), e.covariate) != out.covariates.end()) continue;
+    std::string why;
+    const std::vector<TermInfo> family = empiricalFamily(data, e.covariate, e.output, &why);
+    if (family.empty()) {
+      reasons.push_back(why);
+      continue;
+    }
+    out.covariates.push_back(e.covariate);
+    for (const TermInfo& t : family) out.family.push_back(t.name);
+    EmpiricalTerm term;
+    bool accepted = false;
+    if (e.categorical) {
+      // A batch offset cannot predict a cycle held out whole: its held-out error is leave one run out.
+      DiagnosisData per_run = data;
+      for (std::size_t i = 0; i < per_run.cv_groups.size(); ++i) per_run.cv_groups[i] = std::to_string(i);
+      per_run.cv_scheme = "leave one run out";
+      accepted = selectFromFamily(base, per_run, options, family, e.covariate, e.output, &term, &out.log, &why);
+    } else {
+      accepted = selectFromFamily(base, data, options, family, e.covariate, e.output, &term, &out.log, &why);
+    }
+    if (accepted) {
+      out.covariate = e.covariate;
+      out.output = e.output;
+      out.terms.push_back(term);
+      return out;
+    }
+    reasons.push_back(why);
+  }
+  if (out.covariates.empty()) reasons.insert(reasons.begin(), "no located covariate an empirical term can be built in");
+  for (const std::string& r : reasons) out.reason += (out.reason.empty() ? "" : "; ") + r;
   return out;
 }
 
@@ -289,7 +315,8 @@ std::string empiricalSummary(const EmpiricalTerm& t) {
     s << ", " << symbol << " = " << brief(p.value) << " +- " << brief(p.std_error, 2)
       << (p.unit == "-" ? "" : " " + p.unit);
   }
-  s << ", held-out " << out << " RMSER " << percent(t.cv_rmser_before) << " -> " << percent(t.cv_rmser_after);
+  s << ", held-out " << out << " RMSER " << percent(t.cv_rmser_before) << " -> " << percent(t.cv_rmser_after) << " ("
+    << t.cv_scheme << ")";
   return s.str();
 }
 

@@ -68,13 +68,15 @@ void addEmpirical(const EmpiricalResult& e, nlohmann::json* j) {
                      {"rmser_after", num(t.rmser_after)},
                      {"held_out_rmser_before", num(t.cv_rmser_before)},
                      {"held_out_rmser_after", num(t.cv_rmser_after)},
+                     {"held_out_scheme", t.cv_scheme},
                      {"f_test_p", num(t.p_value)},
                      {"aicc_drop", num(t.delta_aicc)},
                      {"summary", empiricalSummary(t)}});
   }
   (*j)["empirical_terms"] = terms;
   if (!e.attempted) return;
-  (*j)["empirical"] = {{"covariate", e.covariate},
+  (*j)["empirical"] = {{"covariates_tried", e.covariates},
+                       {"covariate", e.covariate},
                        {"output", e.covariate.empty() ? nlohmann::json() : nlohmann::json(outputName(e.output))},
                        {"family", e.family},
                        {"reason", e.reason},
@@ -248,7 +250,8 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
     m << "No library term explains the mismatch; the terms below describe the recordings in `" << r.empirical.covariate
       << "` (family tried: ";
     for (std::size_t i = 0; i < r.empirical.family.size(); ++i) m << (i ? ", " : "") << "`" << r.empirical.family[i] << "`";
-    m << "), selected as the library terms are (F test, AICc, held-out error).\n\n";
+    m << "), selected as the library terms are (F test, AICc, held-out error: " << r.empirical.terms.front().cv_scheme
+      << ").\n\n";
     m << "| term | expression | parameters | F test p | AICc drop | RMSER | held out |\n|---|---|---|---|---|---|---|\n";
     for (const EmpiricalTerm& t : r.empirical.terms) {
       m << "| `" << t.name << "` | `" << t.expression << "` | ";

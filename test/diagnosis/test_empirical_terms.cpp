@@ -1,6 +1,7 @@
 // Empirical terms for what the library lacks (empirical.h): a wear dependence on humidity concealed with the
 // example mechanism and diagnosed without it is `unexplained` with an empirical term in humidity_percent of the
-// right sign that lowers the held-out wear error, reported in diagnosis.json and report.md; a control is `none`
+// right sign that lowers the held-out wear error, reported in diagnosis.json and report.md; a per-cycle batch
+// effect gets offsets per cycle; a control is `none`
 // without one; the linear term's estimate agrees with a closed-form least-squares slope on the same data; a
 // covariate without variance gets no family and a reason.
 #include <gtest/gtest.h>
@@ -72,6 +73,32 @@ TEST(EmpiricalTerms, ConcealedHumidityGetsAnEmpiricalTermThatImprovesTheHeldOutE
   EXPECT_NE(md.find("empirical model (not physics): wear x"), std::string::npos);
   EXPECT_NE(md.find("no library mechanism matches"), std::string::npos);
   EXPECT_NE(md.find("## Empirical terms (not physics)"), std::string::npos);
+}
+
+// A per-cycle batch effect (config/mechanisms/out_of_library.yaml: wear x (1 + b sin(2.4 cycle_id + 1)), b = 0.2,
+// so cycle 3 reads 19% high and cycle 4 18% low against cycle 1's 5% low) gets offsets per cycle, whose held-out
+// error is leave one run out: leave one cycle out could not predict a held-out cycle's offset.
+TEST(EmpiricalTerms, ConcealedBatchEffectGetsCycleOffsets) {
+  RunTable table;
+  {
+    const MechanismsInUse mechanisms(kSource + "/config/mechanisms/out_of_library.yaml");
+    ConcealSpec spec;
+    spec.effect = "cycle_batch";
+    spec.magnitude = 0.2;
+    spec.seed = 1078;
+    table = concealEffect(loadTireParams(kParams), spec).table;
+  }
+  const DiagnosisData data = buildDiagnosisData(table);
+  const DiagnosisResult r = diagnose(loadTireParams(kParams), data, options());
+  EXPECT_EQ(r.explanation, "unexplained");
+  ASSERT_EQ(r.empirical.terms.size(), 1u) << r.empirical.reason;
+  const EmpiricalTerm& t = r.empirical.terms[0];
+  EXPECT_EQ(t.name, "empirical_group_offsets_cycle_id");
+  EXPECT_EQ(t.cv_scheme, "leave one run out");
+  EXPECT_LT(t.cv_rmser_after, t.cv_rmser_before);
+  ASSERT_EQ(t.parameters.size(), 5u);  // cycles 2..6 against cycle 1
+  EXPECT_GT(t.parameters[1].value, 0.0);  // cycle 3 above cycle 1
+  EXPECT_LT(t.parameters[2].value, 0.0);  // cycle 4 below
 }
 
 TEST(EmpiricalTerms, ControlIsNoneWithoutEmpiricalTerm) {

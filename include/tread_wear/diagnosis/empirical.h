@@ -18,9 +18,12 @@
 /// The bounds keep the factor within 0.1 and 1.9 over the recorded range (within a factor 10 for log_linear, and for
 /// the step up to a tripling): wide enough for any effect a rig would leave unexplained, narrow enough that the
 /// output stays positive. Parameters are per unit of the covariate as recorded (e.g. 1/% for humidity_percent).
-/// The covariate: the most significant located effect (smallest p) whose covariate an expression can read (an
-/// operating variable or a numeric recorded column, or cycle_id; not the predicted output level, not another
-/// categorical one such as condition_id: the result says why).
+/// The covariates: the significant located effects in order of their p-value whose covariate an expression can read
+/// (an operating variable, a numeric recorded column, or cycle_id; not the predicted output level, not another
+/// categorical one such as condition_id: the result says why), up to three; each one's family goes through its own
+/// selection (its own Bonferroni) until a term is accepted. Held-out error: the data's scheme (leave one cycle out),
+/// except for cycle offsets, whose held-out error is leave one run out (a batch offset cannot predict a cycle held
+/// out whole).
 /// Thread safety: the family joins the calling thread's library only (extensions.h, setThreadLibrary).
 
 #include <string>
@@ -54,14 +57,16 @@ struct EmpiricalTerm {
   std::vector<EmpiricalParameter> parameters;
   double rmser_before = 0.0, rmser_after = 0.0;        ///< in sample, of the affected output [-]
   double cv_rmser_before = 0.0, cv_rmser_after = 0.0;  ///< held out, of the affected output [-]
+  std::string cv_scheme;   ///< of the held-out errors
   double p_value = 1.0;     ///< partial F test against the base model
   double delta_aicc = 0.0;  ///< AICc of the base model minus the term's (> 0: the term is better supported)
 };
 
 struct EmpiricalResult {
   bool attempted = false;           ///< the verdict was "unexplained" and the step enabled
-  std::string covariate;            ///< the covariate the family was built in ("" if none could be)
-  Output output = Output::kWear;    ///< the affected output
+  std::vector<std::string> covariates;  ///< covariates whose families were tried, in order
+  std::string covariate;            ///< the accepted term's covariate ("" for none)
+  Output output = Output::kWear;    ///< the accepted term's output
   std::vector<std::string> family;  ///< names of the terms tried
   std::vector<EmpiricalTerm> terms; ///< the accepted term (at most one), empty if none
   std::string reason;               ///< why no term was accepted or none tried; "" when one was
@@ -74,8 +79,8 @@ struct EmpiricalResult {
 std::vector<TermInfo> empiricalFamily(const DiagnosisData& data, const std::string& covariate, Output output,
                                       std::string* why_not);
 
-/// After a diagnosis whose verdict is "unexplained": the family in the top located covariate, selected by a
-/// diagnosis restricted to it (one term, the options' levels and solver). Not attempted for any other verdict.
+/// After a diagnosis whose verdict is "unexplained": the families of the located covariates (above), each selected
+/// by a diagnosis restricted to it (one term, the options' levels and solver). Not attempted for any other verdict.
 EmpiricalResult fitEmpiricalTerms(const TireParams& base, const DiagnosisData& data, const DiagnosisOptions& options,
                                   const DiagnosisResult& result);
 
