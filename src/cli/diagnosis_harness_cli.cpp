@@ -25,9 +25,9 @@ int runHarnessCli(int argc, const char* const argv[], std::ostream& out, std::os
   CommandLine a;
   std::string parse_error;
   const bool parsed = a.parse(argc, argv,
-               {"params", "design", "repeats", "controls", "effects", "noise", "jobs", "seed", "csv", "alpha-select",
-                "mechanisms"},
-               {"quick", "one-magnitude", "information", "out-of-library"}, &parse_error);
+                              {"params", "design", "repeats", "controls", "effects", "noise", "jobs", "seed", "csv",
+                               "alpha-select", "mechanisms"},
+                              {"quick", "one-magnitude", "information", "out-of-library"}, &parse_error);
   auto usage = [&](const std::string& msg) { return usageError(err, "tread_wear_diagnosis_harness", msg, usage_text); };
   if (a.help()) {
     out << usage_text;

@@ -54,8 +54,8 @@ std::string covariateUnit(const std::string& name) {
   if (name == "run_order") return "run";
   if (name == "slip_ratio") return "-";
   static const std::vector<std::pair<std::string, std::string>> suffixes = {
-      {"_percent", "%"}, {"_per_m", "1/m"}, {"_mps", "m/s"}, {"_rad", "rad"}, {"_deg", "deg"}, {"_kg", "kg"},
-      {"_c", "degC"},    {"_n", "N"},       {"_m", "m"},     {"_s", "s"}};
+      {"_percent", "%"}, {"_per_m", "1/m"}, {"_mps", "m/s"}, {"_rad", "rad"}, {"_deg", "deg"},
+      {"_kg", "kg"},     {"_c", "degC"},    {"_n", "N"},     {"_m", "m"},     {"_s", "s"}};
   for (const auto& [suffix, unit] : suffixes)
     if (name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
       return unit;
@@ -128,13 +128,15 @@ std::vector<TermInfo> empiricalFamily(const DiagnosisData& data, const std::stri
   };
   const auto c = std::find_if(data.covariates.begin(), data.covariates.end(),
                               [&](const Covariate& v) { return v.name == covariate; });
-  if (c == data.covariates.end()) return none("not a covariate of the recordings (a column without variance is not one, data.h)");
+  if (c == data.covariates.end())
+    return none("not a covariate of the recordings (a column without variance is not one, data.h)");
   const std::vector<std::string>& operating = operatingVariables();
   const bool operating_variable = std::find(operating.begin(), operating.end(), covariate) != operating.end();
   if (c->categorical) {
     if (!operating_variable)
-      return none("categorical and not numbered: group offsets need the group's number in an expression (only "
-                  "cycle_id has one)");
+      return none(
+          "categorical and not numbered: group offsets need the group's number in an expression (only "
+          "cycle_id has one)");
     return groupOffsets(data, *c, output, why_not);
   }
   if (!operating_variable && c->kind != "recorded")
@@ -163,25 +165,24 @@ std::vector<TermInfo> empiricalFamily(const DiagnosisData& data, const std::stri
   const std::string q1 = "emp_quad_b1", q2 = "emp_quad_b2";
   const double half = 0.5 * kMaxLinearChange;
   family.push_back(makeTerm("empirical_quadratic_" + covariate, what + "quadratic in " + covariate, output, covariate,
-                            operating_variable,
-                            "output * (1 + " + q1 + " * " + dx + " + " + q2 + " * " + dx + "^2)",
+                            operating_variable, "output * (1 + " + q1 + " * " + dx + " + " + q2 + " * " + dx + "^2)",
                             {{q1, 0.0, -half / d, half / d, false, 0.0, perUnit(unit, 1)},
                              {q2, 0.0, -half / (d * d), half / (d * d), false, 0.0, perUnit(unit, 2)}}));
   const std::string lg = "emp_log_b";
-  family.push_back(makeTerm("empirical_log_linear_" + covariate, what + "log-linear in " + covariate, output,
-                            covariate, operating_variable, "output * exp(" + lg + " * " + dx + ")",
+  family.push_back(makeTerm("empirical_log_linear_" + covariate, what + "log-linear in " + covariate, output, covariate,
+                            operating_variable, "output * exp(" + lg + " * " + dx + ")",
                             {{lg, 0.0, -kMaxLogChange / d, kMaxLogChange / d, false, 0.0, perUnit(unit, 1)}}));
   if (c->kind == "sequence") {
     const std::string a = "emp_step_a", tau = "emp_step_tau";
     const double range = hi - lo;
-    family.push_back(makeTerm(
-        "empirical_saturating_step_" + covariate, what + "saturating step in " + covariate, output, covariate,
-        operating_variable,
-        "output * (1 + " + a + " * (1 - exp(-(" + covariate + " - " + exact(lo) + ") / " + tau + ")))",
-        {{a, 0.0, kStepAmplitudeLower, kStepAmplitudeUpper, false, 0.0, "-"},
-         // tau's no-effect value is any: a = 0 leaves the model whatever tau is
-         {tau, kStepTauInitial * range, kStepTauLower * range, kStepTauUpper * range, true, kStepTauInitial * range,
-          unit}}));
+    family.push_back(
+        makeTerm("empirical_saturating_step_" + covariate, what + "saturating step in " + covariate, output, covariate,
+                 operating_variable,
+                 "output * (1 + " + a + " * (1 - exp(-(" + covariate + " - " + exact(lo) + ") / " + tau + ")))",
+                 {{a, 0.0, kStepAmplitudeLower, kStepAmplitudeUpper, false, 0.0, "-"},
+                  // tau's no-effect value is any: a = 0 leaves the model whatever tau is
+                  {tau, kStepTauInitial * range, kStepTauLower * range, kStepTauUpper * range, true,
+                   kStepTauInitial * range, unit}}));
   }
   return family;
 }
@@ -218,9 +219,8 @@ bool selectFromFamily(const TireParams& base, const DiagnosisData& data, const D
   }
   const TermInfo& info = termInfo(r.final_model.terms.front());
   // The selection's statistics: the accepted fit under the base model's weights, beside the base model.
-  const auto selected = std::find_if(r.tried.begin(), r.tried.end(), [&](const FittedModel& f) {
-    return f.label == r.final_model.label && f.cv_done;
-  });
+  const auto selected = std::find_if(r.tried.begin(), r.tried.end(),
+                                     [&](const FittedModel& f) { return f.label == r.final_model.label && f.cv_done; });
   const FittedModel& fit = selected != r.tried.end() ? *selected : r.final_model;
   term->name = info.name;
   term->form = info.name.substr(std::string("empirical_").size(),
@@ -298,20 +298,26 @@ std::string empiricalSummary(const EmpiricalTerm& t) {
   std::ostringstream s;
   const std::string out = outputName(t.output);
   const std::string dx = "(" + t.covariate + " - " + brief(t.centre, 4) + ")";
-  if (t.form == "linear") s << out << " x (1 + b " << dx << ")";
-  else if (t.form == "quadratic") s << out << " x (1 + b1 " << dx << " + b2 " << dx << "^2)";
-  else if (t.form == "log_linear") s << out << " x exp(b " << dx << ")";
-  else if (t.form == "group_offsets") s << out << " x (1 + d_g) in group g of " << t.covariate << " (d = 0 in the first)";
-  else s << out << " x (1 + a (1 - exp(-(" << t.covariate << " - min) / tau)))";
+  if (t.form == "linear")
+    s << out << " x (1 + b " << dx << ")";
+  else if (t.form == "quadratic")
+    s << out << " x (1 + b1 " << dx << " + b2 " << dx << "^2)";
+  else if (t.form == "log_linear")
+    s << out << " x exp(b " << dx << ")";
+  else if (t.form == "group_offsets")
+    s << out << " x (1 + d_g) in group g of " << t.covariate << " (d = 0 in the first)";
+  else
+    s << out << " x (1 + a (1 - exp(-(" << t.covariate << " - min) / tau)))";
   const char* symbols_linear[] = {"b"};
   const char* symbols_quadratic[] = {"b1", "b2"};
   const char* symbols_step[] = {"a", "tau"};
-  const char* const* symbols =
-      t.form == "quadratic" ? symbols_quadratic : t.form == "saturating_step" ? symbols_step : symbols_linear;
+  const char* const* symbols = t.form == "quadratic"         ? symbols_quadratic
+                               : t.form == "saturating_step" ? symbols_step
+                                                             : symbols_linear;
   for (std::size_t i = 0; i < t.parameters.size(); ++i) {
     const EmpiricalParameter& p = t.parameters[i];
-    const std::string symbol = t.form == "group_offsets" ? "d_" + p.name.substr(std::string("emp_grp_d").size())
-                                                         : std::string(symbols[i]);
+    const std::string symbol =
+        t.form == "group_offsets" ? "d_" + p.name.substr(std::string("emp_grp_d").size()) : std::string(symbols[i]);
     s << ", " << symbol << " = " << brief(p.value) << " +- " << brief(p.std_error, 2)
       << (p.unit == "-" ? "" : " " + p.unit);
   }

@@ -204,7 +204,8 @@ std::vector<HarnessOutcome> runHarness(const TireParams& base, const HarnessOpti
         dopt.detection_power = 0.0;  // the harness scores verdicts; the reference below is its power calculation
         if (cases[i].out_of_library && dopt.candidates.empty())
           for (int t = 0; t < static_cast<int>(Term::kFirstUser); ++t)
-            if (termInfo(static_cast<Term>(t)).name != cases[i].spec.effect) dopt.candidates.push_back(static_cast<Term>(t));
+            if (termInfo(static_cast<Term>(t)).name != cases[i].spec.effect)
+              dopt.candidates.push_back(static_cast<Term>(t));
         const DiagnosisResult r = diagnose(base, data, dopt);
         o = scoreCase(cases[i], cc.answer, r);
         if (options.information && cases[i].spec.wear_noise_rsd > 0.0 && cases[i].spec.side_force_noise_n > 0.0) {
@@ -233,7 +234,8 @@ std::vector<HarnessOutcome> runHarness(const TireParams& base, const HarnessOpti
                                                (o.empirical_covariate.empty() ? "none" : o.empirical_covariate) + ")"
                                          : "")
                   << (o.reference_error.empty() ? "" : " (no reference: " + o.reference_error + ")") << " ("
-                  << std::fixed << std::setprecision(1) << o.seconds << " s)\n" << std::defaultfloat;
+                  << std::fixed << std::setprecision(1) << o.seconds << " s)\n"
+                  << std::defaultfloat;
       }
     }
   };
@@ -247,8 +249,8 @@ std::vector<HarnessOutcome> runHarness(const TireParams& base, const HarnessOpti
 std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
   // Counts over cases; `n` counts the cases that ran (failed ones only in `errors`).
   struct Tally {
-    int n = 0, right = 0, named = 0, pscored = 0, pok = 0, pok_relative = 0, pestimated = 0, pcovered = 0,
-        iscored = 0, iok = 0, all_met = 0, errors = 0, referenced = 0, reference_errors = 0, escored = 0, eok = 0;
+    int n = 0, right = 0, named = 0, pscored = 0, pok = 0, pok_relative = 0, pestimated = 0, pcovered = 0, iscored = 0,
+        iok = 0, all_met = 0, errors = 0, referenced = 0, reference_errors = 0, escored = 0, eok = 0;
     double expected_right = 0.0;  ///< sum of the cases' detectability references
     int parameter_referenced = 0;
     double expected_parameter = 0.0;  ///< sum of their reference_parameter_ok
@@ -378,10 +380,9 @@ std::string harnessCsv(const std::vector<HarnessOutcome>& outcomes) {
       << (o.parameter_scored ? std::to_string(o.parameter_ok_relative) : "") << ","
       << (o.c.spec.effect == "none" ? "" : std::to_string(o.all_met)) << "," << o.estimate << "," << o.truth << ","
       << o.std_error << "," << (o.parameter_estimated ? std::to_string(o.parameter_covered) : "") << ","
-      << (o.improved_scored ? std::to_string(o.improved) : "") << "," << o.cv_before[0] << "," << o.cv_before[1]
-      << "," << o.cv_after[0] << "," << o.cv_after[1] << "," << referenceCsv(o) << "," << o.seconds << ",\""
-      << o.error << "\"," << o.empirical_covariate << ","
-      << (o.empirical_scored ? std::to_string(o.empirical_ok) : "") << "\n";
+      << (o.improved_scored ? std::to_string(o.improved) : "") << "," << o.cv_before[0] << "," << o.cv_before[1] << ","
+      << o.cv_after[0] << "," << o.cv_after[1] << "," << referenceCsv(o) << "," << o.seconds << ",\"" << o.error
+      << "\"," << o.empirical_covariate << "," << (o.empirical_scored ? std::to_string(o.empirical_ok) : "") << "\n";
   return s.str();
 }
 

@@ -236,8 +236,7 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
   }
   for (const EmpiricalTerm& t : r.empirical.terms)
     m << "- empirical model (not physics): " << empiricalSummary(t) << "; no library mechanism matches\n";
-  if (r.empirical.attempted && r.empirical.terms.empty())
-    m << "- no empirical term: " << r.empirical.reason << "\n";
+  if (r.empirical.attempted && r.empirical.terms.empty()) m << "- no empirical term: " << r.empirical.reason << "\n";
   for (const std::string& w : data.warnings) m << "- data warning: " << w << "\n";
   m << "\n| | side force RMSER | wear RMSER | side force held out | wear held out |\n|---|---|---|---|---|\n";
   m << "| base model (calibrated levels) | " << pct(r.base.rmser[0]) << " | " << pct(r.base.rmser[1]) << " | "
@@ -249,10 +248,12 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
     m << "## Empirical terms (not physics)\n\n";
     m << "No library term explains the mismatch; the terms below describe the recordings in `" << r.empirical.covariate
       << "` (family tried: ";
-    for (std::size_t i = 0; i < r.empirical.family.size(); ++i) m << (i ? ", " : "") << "`" << r.empirical.family[i] << "`";
+    for (std::size_t i = 0; i < r.empirical.family.size(); ++i)
+      m << (i ? ", " : "") << "`" << r.empirical.family[i] << "`";
     m << "), selected as the library terms are (F test, AICc, held-out error: " << r.empirical.terms.front().cv_scheme
       << ").\n\n";
-    m << "| term | expression | parameters | F test p | AICc drop | RMSER | held out |\n|---|---|---|---|---|---|---|\n";
+    m << "| term | expression | parameters | F test p | AICc drop | RMSER | held out "
+         "|\n|---|---|---|---|---|---|---|\n";
     for (const EmpiricalTerm& t : r.empirical.terms) {
       m << "| `" << t.name << "` | `" << t.expression << "` | ";
       for (std::size_t i = 0; i < t.parameters.size(); ++i)

@@ -96,7 +96,7 @@ TEST(EmpiricalTerms, ConcealedBatchEffectGetsCycleOffsets) {
   EXPECT_EQ(t.name, "empirical_group_offsets_cycle_id");
   EXPECT_EQ(t.cv_scheme, "leave one run out");
   EXPECT_LT(t.cv_rmser_after, t.cv_rmser_before);
-  ASSERT_EQ(t.parameters.size(), 5u);  // cycles 2..6 against cycle 1
+  ASSERT_EQ(t.parameters.size(), 5u);     // cycles 2..6 against cycle 1
   EXPECT_GT(t.parameters[1].value, 0.0);  // cycle 3 above cycle 1
   EXPECT_LT(t.parameters[2].value, 0.0);  // cycle 4 below
 }

@@ -139,7 +139,7 @@ struct DiagnosisResult {
   std::string explanation;                        ///< library name, "a+b", "none" or "unexplained"
   std::vector<std::string> unexplained_covariates;
   std::vector<CloseAlternative> close_alternatives;  ///< of every accepting step (step 5 above)
-  EmpiricalResult empirical;                      ///< empirical terms, with the verdict "unexplained"
+  EmpiricalResult empirical;                         ///< empirical terms, with the verdict "unexplained"
   double side_force_noise_n = 0.0;                ///< noise the final model leaves: side force [N]; NaN if not measured
   double wear_noise_rsd = 0.0;                    ///< and wear, relative [-] (step 6); NaN if not measured
   double detection_power = 0.0;                   ///< power of the detection limits [-]

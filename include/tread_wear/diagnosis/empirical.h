@@ -48,8 +48,8 @@ struct EmpiricalParameter {
 
 /// The empirical term the selection accepted.
 struct EmpiricalTerm {
-  std::string name;        ///< e.g. "empirical_linear_humidity_percent"
-  std::string form;        ///< linear, quadratic, log_linear, saturating_step, group_offsets
+  std::string name;  ///< e.g. "empirical_linear_humidity_percent"
+  std::string form;  ///< linear, quadratic, log_linear, saturating_step, group_offsets
   std::string covariate;
   Output output = Output::kWear;
   double centre = 0.0;     ///< m, the covariate's mean over the runs [unit of the covariate]; 0 for group offsets
@@ -57,20 +57,20 @@ struct EmpiricalTerm {
   std::vector<EmpiricalParameter> parameters;
   double rmser_before = 0.0, rmser_after = 0.0;        ///< in sample, of the affected output [-]
   double cv_rmser_before = 0.0, cv_rmser_after = 0.0;  ///< held out, of the affected output [-]
-  std::string cv_scheme;   ///< of the held-out errors
-  double p_value = 1.0;     ///< partial F test against the base model
+  std::string cv_scheme;                               ///< of the held-out errors
+  double p_value = 1.0;                                ///< partial F test against the base model
   double delta_aicc = 0.0;  ///< AICc of the base model minus the term's (> 0: the term is better supported)
 };
 
 struct EmpiricalResult {
-  bool attempted = false;           ///< the verdict was "unexplained" and the step enabled
+  bool attempted = false;               ///< the verdict was "unexplained" and the step enabled
   std::vector<std::string> covariates;  ///< covariates whose families were tried, in order
-  std::string covariate;            ///< the accepted term's covariate ("" for none)
-  Output output = Output::kWear;    ///< the accepted term's output
-  std::vector<std::string> family;  ///< names of the terms tried
-  std::vector<EmpiricalTerm> terms; ///< the accepted term (at most one), empty if none
-  std::string reason;               ///< why no term was accepted or none tried; "" when one was
-  std::vector<std::string> log;     ///< the selection step in words
+  std::string covariate;                ///< the accepted term's covariate ("" for none)
+  Output output = Output::kWear;        ///< the accepted term's output
+  std::vector<std::string> family;      ///< names of the terms tried
+  std::vector<EmpiricalTerm> terms;     ///< the accepted term (at most one), empty if none
+  std::string reason;                   ///< why no term was accepted or none tried; "" when one was
+  std::vector<std::string> log;         ///< the selection step in words
 };
 
 /// Builds the empirical family in `covariate` on `output` (names, parameters, expressions as above; `term` unset).

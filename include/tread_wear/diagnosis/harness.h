@@ -55,7 +55,7 @@ struct HarnessOutcome {
   double std_error = std::numeric_limits<double>::quiet_NaN();  ///< reported standard error of the estimate
   double cv_before[kNumOutputs] = {0.0, 0.0}, cv_after[kNumOutputs] = {0.0, 0.0};
   bool empirical_scored = false, empirical_ok = false;  ///< out-of-library case; its criterion met
-  std::string empirical_covariate;  ///< covariate of the empirical term given, "" for none
+  std::string empirical_covariate;                      ///< covariate of the empirical term given, "" for none
   bool information = false;  ///< the reference below was computed
   Detectability reference;   ///< detectability of the hidden term on this case's noise-free recordings
   double reference_parameter_ok = std::numeric_limits<double>::quiet_NaN();  ///< probability, see above [-]
