@@ -242,6 +242,8 @@ bool selectFromFamily(const TireParams& base, const DiagnosisData& data, const D
     ep.unit = p.unit;
     term->parameters.push_back(ep);
   }
+  for (std::size_t i = 0; i < data.runs.size(); ++i)
+    term->prediction.push_back(r.final_model.prediction.value(output, static_cast<int>(i)));
   term->rmser_before = r.base.rmser[o];
   term->cv_rmser_before = r.base.cv_rmser[o];
   term->rmser_after = fit.rmser[o];

@@ -179,7 +179,8 @@ nlohmann::json diagnosisDocument(const DiagnosisResult& r, const DiagnosisData& 
   j["selection_log"] = r.log;
   j["runs"] = data.runs.size();
   j["measured"] = {{"side_force", data.measured_count[0]}, {"wear", data.measured_count[1]}};
-  // The covariate each output's plot shows: the most significant locating test of that output.
+  // The covariate each output's plot shows: the most significant locating test of that output, or the empirical
+  // term's covariate for the output it modifies.
   nlohmann::json plot = nlohmann::json::object();
   for (int o = 0; o < kNumOutputs; ++o)
     for (const LocatedEffect& e : r.located_before)
@@ -187,6 +188,7 @@ nlohmann::json diagnosisDocument(const DiagnosisResult& r, const DiagnosisData& 
         plot[outputName(e.output)] = e.covariate;
         break;
       }
+  for (const EmpiricalTerm& t : r.empirical.terms) plot[outputName(t.output)] = t.covariate;
   j["plot_covariates"] = plot;
   return j;
 }
@@ -348,6 +350,9 @@ std::string residualsCsv(const DiagnosisResult& r, const DiagnosisData& data) {
        "predicted_wear_kg_per_m_before,predicted_side_force_n_after,predicted_wear_kg_per_m_after,"
        "residual_side_force_before,residual_wear_before,residual_side_force_after,residual_wear_after";
   for (const Covariate& cov : data.covariates) c << "," << cov.name;
+  // With an empirical term: its relative residuals of the output it modifies, last.
+  const EmpiricalTerm* empirical = r.empirical.terms.empty() ? nullptr : &r.empirical.terms.front();
+  if (empirical) c << ",residual_" << outputName(empirical->output) << "_empirical";
   c << "\n";
   std::vector<double> res[2][2];
   for (int o = 0; o < kNumOutputs; ++o) {
@@ -364,6 +369,7 @@ std::string residualsCsv(const DiagnosisResult& r, const DiagnosisData& data) {
       << cell(res[1][1][i]);
     for (const Covariate& cov : data.covariates)
       c << "," << (cov.categorical ? "\"" + cov.levels[static_cast<int>(cov.values[i])] + "\"" : cell(cov.values[i]));
+    if (empirical) c << "," << cell(empirical->prediction[i] / run.measured[static_cast<int>(empirical->output)] - 1.0);
     c << "\n";
   }
   return c.str();

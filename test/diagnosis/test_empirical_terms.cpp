@@ -69,6 +69,9 @@ TEST(EmpiricalTerms, ConcealedHumidityGetsAnEmpiricalTermThatImprovesTheHeldOutE
   ASSERT_EQ(j["empirical_terms"].size(), 1u);
   EXPECT_EQ(j["empirical_terms"][0]["covariate"], "humidity_percent");
   EXPECT_EQ(j["empirical_terms"][0]["physical"], false);
+  EXPECT_EQ(j["plot_covariates"]["wear"], "humidity_percent");
+  const std::string csv = residualsCsv(r, data);
+  EXPECT_NE(csv.substr(0, csv.find('\n')).find(",residual_wear_empirical"), std::string::npos);
   const std::string md = diagnosisMarkdown(r, data, "case", {});
   EXPECT_NE(md.find("empirical model (not physics): wear x"), std::string::npos);
   EXPECT_NE(md.find("no library mechanism matches"), std::string::npos);

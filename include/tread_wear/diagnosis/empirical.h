@@ -58,6 +58,7 @@ struct EmpiricalTerm {
   double rmser_before = 0.0, rmser_after = 0.0;        ///< in sample, of the affected output [-]
   double cv_rmser_before = 0.0, cv_rmser_after = 0.0;  ///< held out, of the affected output [-]
   std::string cv_scheme;                               ///< of the held-out errors
+  std::vector<double> prediction;                      ///< the output per run with the term, as accepted [N or kg/m]
   double p_value = 1.0;                                ///< partial F test against the base model
   double delta_aicc = 0.0;  ///< AICc of the base model minus the term's (> 0: the term is better supported)
 };
