@@ -35,7 +35,11 @@ def main(report_dir):
     for output, covariate in verdict.get("plot_covariates", {}).items():
         column = LEVEL_COLUMNS.get(covariate, covariate)
         fig, ax = plt.subplots(figsize=(6.4, 4.2))
-        for phase, marker, label in (("before", "o", "base model"), ("after", "x", after_label)):
+        phases = [("before", "o", "base model"), ("after", "x", after_label)]
+        for term in verdict.get("empirical_terms", []):  # an empirical term of this output (not physics)
+            if term["output"] == output and rows and "residual_%s_empirical" % output in rows[0]:
+                phases.append(("empirical", "+", "empirical (not physics): %s" % term["form"]))
+        for phase, marker, label in phases:
             xs, ys, cats = [], [], []
             for r in rows:
                 y = number(r["residual_%s_%s" % (output, phase)])

@@ -119,6 +119,8 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
     out << "mismatch_found: " << (result.mismatch_found ? "true" : "false") << "\nexplanation: " << result.explanation
         << "\n";
     for (const std::string& c : result.unexplained_covariates) out << "residual follows: " << c << "\n";
+    for (const EmpiricalTerm& t : result.empirical.terms)
+      out << "empirical (not physics, no library mechanism matches): " << empiricalSummary(t) << "\n";
     for (const CloseAlternative& c : result.close_alternatives) {
       char line[200];
       std::snprintf(line, sizeof(line), "about as well supported: %s instead of %s (AICc %+.2f)\n", c.model.c_str(),

@@ -24,13 +24,14 @@ int runHarnessCli(int argc, const char* const argv[], std::ostream& out, std::os
       "       [--jobs N] [--seed N] [--csv OUT] [--preset auto|fast|standard|fine|reference]\n"
       "       [--generator-preset fast|standard|fine|reference]\n"
       "       [--force-noise-model auto|additive|relative|combined]\n"
-      "       [--wear-noise-model auto|additive|relative|combined] [--mechanisms FILE]\n";
+      "       [--wear-noise-model auto|additive|relative|combined] [--mechanisms FILE]\n"
+      "       [--out-of-library]   (diagnose with the built-in library less the hidden term: scores empirical terms)\n";
   CommandLine a;
   std::string parse_error;
   const bool parsed = a.parse(argc, argv,
                {"params", "design", "repeats", "controls", "effects", "noise", "jobs", "seed", "csv", "alpha-select",
                 "preset", "generator-preset", "force-noise-model", "wear-noise-model", "mechanisms"},
-               {"quick", "one-magnitude", "information"}, &parse_error);
+               {"quick", "one-magnitude", "information", "out-of-library"}, &parse_error);
   auto usage = [&](const std::string& msg) { return usageError(err, "tread_wear_diagnosis_harness", msg, usage_text); };
   if (a.help()) {
     out << usage_text;
@@ -77,6 +78,7 @@ int runHarnessCli(int argc, const char* const argv[], std::ostream& out, std::os
   }
   if (a.has("one-magnitude")) h.two_magnitudes = false;
   h.information = a.has("information");
+  h.out_of_library = a.has("out-of-library");
   if (h.information && std::find(h.wear_noise.begin(), h.wear_noise.end(), 0.0) != h.wear_noise.end())
     return usage("--information needs every --noise level > 0 (the reference is measured in units of the noise)");
   for (const std::string& name : splitList(a.get("effects"))) {

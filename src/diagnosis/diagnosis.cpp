@@ -648,6 +648,7 @@ DiagnosisResult diagnoseAtPreset(const TireParams& base, const DiagnosisData& da
     result.explanation = "none";
   }
   result.mismatch_found = result.explanation != "none";
+  if (options.empirical) result.empirical = fitEmpiricalTerms(base, data, options, result);
 
   // 6. Detection limits at the noise the final model leaves.
   estimateNoise(data, current, &result.side_force_noise_n, &result.wear_noise_rsd);

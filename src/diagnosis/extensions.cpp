@@ -67,9 +67,18 @@ std::vector<TermInfo>& library() {
   return lib;
 }
 
+/// The calling thread's own library while set (setThreadLibrary), else null.
+thread_local const std::vector<TermInfo>* t_thread_library = nullptr;
+
 }  // namespace
 
-const std::vector<TermInfo>& termLibrary() { return library(); }
+const std::vector<TermInfo>& termLibrary() { return t_thread_library ? *t_thread_library : library(); }
+
+const std::vector<TermInfo>* setThreadLibrary(const std::vector<TermInfo>* lib) {
+  const std::vector<TermInfo>* previous = t_thread_library;
+  t_thread_library = lib;
+  return previous;
+}
 
 std::vector<TermInfo> setUserTerms(std::vector<TermInfo> user) {
   std::vector<TermInfo>& lib = library();

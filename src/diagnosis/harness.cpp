@@ -121,6 +121,7 @@ std::vector<HarnessCase> harnessCases(const HarnessOptions& options) {
           c.spec.seed = ++seed;
           c.spec.model = {options.generator_preset, options.diagnosis.model.orientation};
           c.magnitude_label = label;
+          c.out_of_library = options.out_of_library;
           cases.push_back(c);
         }
     }
@@ -133,6 +134,7 @@ std::vector<HarnessCase> harnessCases(const HarnessOptions& options) {
       c.spec.seed = ++seed;
       c.spec.model = {options.generator_preset, options.diagnosis.model.orientation};
       c.magnitude_label = "-";
+      c.out_of_library = options.out_of_library;
       cases.push_back(c);
     }
   }
@@ -159,6 +161,15 @@ HarnessOutcome scoreCase(const HarnessCase& c, const ConcealAnswer& answer, cons
     for (Term s : result.final_model.terms) o.false_sensor = o.false_sensor || !termInfo(s).physical;
   if (!has_effect) return o;
   const TermInfo& info = termInfo(t);
+  if (c.out_of_library && info.user) {
+    o.empirical_scored = true;
+    for (const EmpiricalTerm& e : result.empirical.terms) {
+      o.empirical_covariate = e.covariate;
+      const std::vector<std::string>& reads = info.user->data_variables;
+      o.empirical_ok = std::find(reads.begin(), reads.end(), e.covariate) != reads.end() &&
+                       info.affects[static_cast<int>(e.output)] && e.cv_rmser_after < e.cv_rmser_before;
+    }
+  }
   o.improved_scored = true;
   o.improved = true;
   for (int k = 0; k < kNumOutputs; ++k)
@@ -196,6 +207,10 @@ std::vector<HarnessOutcome> runHarness(const TireParams& base, const HarnessOpti
         DiagnosisOptions dopt = options.diagnosis;
         dopt.seed = cases[i].spec.seed;
         dopt.detection_power = 0.0;  // the harness scores verdicts; the reference below is its power calculation
+        if (cases[i].out_of_library && dopt.candidates.empty())
+          for (int t = 0; t < static_cast<int>(Term::kFirstUser); ++t)
+            if (termInfo(static_cast<Term>(t)).name != cases[i].spec.effect)
+              dopt.candidates.push_back(static_cast<Term>(t));
         const DiagnosisResult r = diagnose(base, data, dopt);
         o = scoreCase(cases[i], cc.answer, r);
         if (options.information && cases[i].spec.wear_noise_rsd > 0.0 && cases[i].spec.side_force_noise_n > 0.0) {
@@ -220,8 +235,12 @@ std::vector<HarnessOutcome> runHarness(const TireParams& base, const HarnessOpti
         *progress << "[" << i + 1 << "/" << cases.size() << "] " << o.c.spec.effect << " " << o.c.magnitude_label
                   << " noise " << o.c.spec.wear_noise_rsd << " seed " << o.c.spec.seed << " -> "
                   << (o.error.empty() ? o.explanation : "ERROR " + o.error)
+                  << (o.empirical_scored ? " (empirical term in: " +
+                                               (o.empirical_covariate.empty() ? "none" : o.empirical_covariate) + ")"
+                                         : "")
                   << (o.reference_error.empty() ? "" : " (no reference: " + o.reference_error + ")") << " ("
-                  << std::fixed << std::setprecision(1) << o.seconds << " s)\n" << std::defaultfloat;
+                  << std::fixed << std::setprecision(1) << o.seconds << " s)\n"
+                  << std::defaultfloat;
       }
     }
   };
@@ -237,7 +256,7 @@ std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
   struct Tally {
     int n = 0, right = 0, named = 0, sensor_scored = 0, false_sensor = 0, pscored = 0, pok = 0, pok_relative = 0,
         pestimated = 0, pcovered = 0, iscored = 0, iok = 0, all_met = 0, errors = 0, referenced = 0,
-        reference_errors = 0;
+        reference_errors = 0, escored = 0, eok = 0;
     double expected_right = 0.0;  ///< sum of the cases' detectability references
     int parameter_referenced = 0;
     double expected_parameter = 0.0;  ///< sum of their reference_parameter_ok
@@ -260,6 +279,8 @@ std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
       pcovered += o.parameter_covered;
       iscored += o.improved_scored;
       iok += o.improved;
+      escored += o.empirical_scored;
+      eok += o.empirical_ok;
       referenced += o.information;
       reference_errors += !o.reference_error.empty();
       if (o.information) expected_right += o.reference.expected_right;
@@ -337,6 +358,10 @@ std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
       << "touch the side force (controls, wear-only effects) "
       << pctWithInterval(effects.false_sensor + controls.false_sensor, effects.sensor_scored + controls.sensor_scored)
       << ".\n";
+    if (effects.escored > 0)
+      s << "Out of library (the library lacks the hidden mechanism): the right covariate with an empirical term that "
+           "lowers the held-out RMSER "
+        << pctWithInterval(effects.eok, effects.escored) << ".\n";
     if (information)
       s << "Detectability reference (a selector that knows the noise levels, detectability.h): expected right "
            "explanation "
@@ -357,7 +382,8 @@ std::string harnessCsv(const std::vector<HarnessOutcome>& outcomes) {
   s << "effect,magnitude_label,magnitude,wear_noise_rsd,side_force_noise_n,seed,explanation,right,named,parameter_ok,"
        "parameter_ok_relative,all_met,estimate,truth,std_error,covered,improved,cv_before_side_force,cv_before_wear,"
        "cv_after_side_force,cv_after_wear,reference_lambda,reference_power,reference_expected_right,"
-       "reference_parameter_ok,reference_top_wrong,reference_top_wrong_share,preset,false_sensor,seconds,error\n";
+       "reference_parameter_ok,reference_top_wrong,reference_top_wrong_share,preset,false_sensor,seconds,error,"
+       "empirical_covariate,empirical_ok\n";
   for (const HarnessOutcome& o : outcomes)
     s << o.c.spec.effect << "," << o.c.magnitude_label << "," << o.c.spec.magnitude << "," << o.c.spec.wear_noise_rsd
       << "," << o.c.spec.side_force_noise_n << "," << o.c.spec.seed << "," << o.explanation << "," << o.right << ","
@@ -367,7 +393,8 @@ std::string harnessCsv(const std::vector<HarnessOutcome>& outcomes) {
       << o.std_error << "," << (o.parameter_estimated ? std::to_string(o.parameter_covered) : "") << ","
       << (o.improved_scored ? std::to_string(o.improved) : "") << "," << o.cv_before[0] << "," << o.cv_before[1] << ","
       << o.cv_after[0] << "," << o.cv_after[1] << "," << referenceCsv(o) << "," << o.preset << ","
-      << (o.sensor_scored ? std::to_string(o.false_sensor) : "") << "," << o.seconds << ",\"" << o.error << "\"\n";
+      << (o.sensor_scored ? std::to_string(o.false_sensor) : "") << "," << o.seconds << ",\"" << o.error << "\","
+      << o.empirical_covariate << "," << (o.empirical_scored ? std::to_string(o.empirical_ok) : "") << "\n";
   return s.str();
 }
 

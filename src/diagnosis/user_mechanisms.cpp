@@ -38,6 +38,7 @@ const std::vector<OperatingVariable>& operatingTable() {
       {"sliding_distance_m", [](const DiagnosisRun& r) { return r.sliding_distance_m; }},
       {"cumulative_sliding_m", [](const DiagnosisRun& r) { return r.cumulative_sliding_m; }},
       {"run_order", [](const DiagnosisRun& r) { return r.run_order >= 0 ? double(r.run_order) : NAN; }},
+      {"cycle_id", [](const DiagnosisRun& r) { return r.cycle >= 0 ? double(r.cycle) : NAN; }},
   };
   return table;
 }

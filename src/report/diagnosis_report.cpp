@@ -48,6 +48,41 @@ std::string g(double v, int precision = 4) {
   return s.str();
 }
 
+/// The empirical step (empirical.h) for diagnosis.json: what was tried and the accepted term, if any.
+void addEmpirical(const EmpiricalResult& e, nlohmann::json* j) {
+  nlohmann::json terms = nlohmann::json::array();
+  for (const EmpiricalTerm& t : e.terms) {
+    nlohmann::json parameters = nlohmann::json::array();
+    for (const EmpiricalParameter& p : t.parameters)
+      parameters.push_back({{"name", p.name}, {"value", p.value}, {"std_error", num(p.std_error)}, {"unit", p.unit}});
+    terms.push_back({{"name", t.name},
+                     {"form", t.form},
+                     {"physical", false},
+                     {"statement", "empirical, not physics: no library mechanism matches"},
+                     {"covariate", t.covariate},
+                     {"output", outputName(t.output)},
+                     {"centre", t.centre},
+                     {"expression", t.expression},
+                     {"parameters", parameters},
+                     {"rmser_before", num(t.rmser_before)},
+                     {"rmser_after", num(t.rmser_after)},
+                     {"held_out_rmser_before", num(t.cv_rmser_before)},
+                     {"held_out_rmser_after", num(t.cv_rmser_after)},
+                     {"held_out_scheme", t.cv_scheme},
+                     {"f_test_p", num(t.p_value)},
+                     {"aicc_drop", num(t.delta_aicc)},
+                     {"summary", empiricalSummary(t)}});
+  }
+  (*j)["empirical_terms"] = terms;
+  if (!e.attempted) return;
+  (*j)["empirical"] = {{"covariates_tried", e.covariates},
+                       {"covariate", e.covariate},
+                       {"output", e.covariate.empty() ? nlohmann::json() : nlohmann::json(outputName(e.output))},
+                       {"family", e.family},
+                       {"reason", e.reason},
+                       {"selection", e.log}};
+}
+
 std::string effectText(const LocatedEffect& e) {
   std::ostringstream s;
   if (e.categorical)
@@ -141,6 +176,7 @@ nlohmann::json diagnosisDocument(const DiagnosisResult& r, const DiagnosisData& 
   for (const CloseAlternative& a : r.close_alternatives)
     alternatives.push_back({{"model", a.model}, {"instead_of", a.instead_of}, {"delta_aicc", a.delta_aicc}});
   j["close_alternatives"] = alternatives;
+  addEmpirical(r.empirical, &j);
   nlohmann::json params = nlohmann::json::object();
   for (const ParameterEstimate& p : r.final_model.summary.parameters)
     params[p.name] = {{"value", p.value}, {"std_error", num(p.std_error)}, {"unit", parameterUnit(p.name)},
@@ -191,7 +227,8 @@ nlohmann::json diagnosisDocument(const DiagnosisResult& r, const DiagnosisData& 
   j["selection_log"] = r.log;
   j["runs"] = data.runs.size();
   j["measured"] = {{"side_force", data.measured_count[0]}, {"wear", data.measured_count[1]}};
-  // The covariate each output's plot shows: the most significant locating test of that output.
+  // The covariate each output's plot shows: the most significant locating test of that output, or the empirical
+  // term's covariate for the output it modifies.
   nlohmann::json plot = nlohmann::json::object();
   for (int o = 0; o < kNumOutputs; ++o)
     for (const LocatedEffect& e : r.located_before)
@@ -199,6 +236,7 @@ nlohmann::json diagnosisDocument(const DiagnosisResult& r, const DiagnosisData& 
         plot[outputName(e.output)] = e.covariate;
         break;
       }
+  for (const EmpiricalTerm& t : r.empirical.terms) plot[outputName(t.output)] = t.covariate;
   j["plot_covariates"] = plot;
   return j;
 }
@@ -246,6 +284,9 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
     for (const std::string& c : r.unexplained_covariates) m << " `" << c << "`";
     m << "\n";
   }
+  for (const EmpiricalTerm& t : r.empirical.terms)
+    m << "- empirical model (not physics): " << empiricalSummary(t) << "; no library mechanism matches\n";
+  if (r.empirical.attempted && r.empirical.terms.empty()) m << "- no empirical term: " << r.empirical.reason << "\n";
   for (const std::string& w : data.warnings) m << "- data warning: " << w << "\n";
   m << "\n| | side force RMSER | wear RMSER | side force held out | wear held out |\n|---|---|---|---|---|\n";
   m << "| base model (calibrated levels) | " << pct(r.base.rmser[0]) << " | " << pct(r.base.rmser[1]) << " | "
@@ -253,6 +294,26 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
   m << "| " << r.final_model.label << " | " << pct(r.final_model.rmser[0]) << " | " << pct(r.final_model.rmser[1])
     << " | " << pct(r.final_model.cv_rmser[0]) << " | " << pct(r.final_model.cv_rmser[1]) << " |\n\n";
   m << "Held out: " << r.cv_scheme << ". RMSER is Eq 24 of the paper.\n\n";
+  if (!r.empirical.terms.empty()) {
+    m << "## Empirical terms (not physics)\n\n";
+    m << "No library term explains the mismatch; the terms below describe the recordings in `" << r.empirical.covariate
+      << "` (family tried: ";
+    for (std::size_t i = 0; i < r.empirical.family.size(); ++i)
+      m << (i ? ", " : "") << "`" << r.empirical.family[i] << "`";
+    m << "), selected as the library terms are (F test, AICc, held-out error: " << r.empirical.terms.front().cv_scheme
+      << ").\n\n";
+    m << "| term | expression | parameters | F test p | AICc drop | RMSER | held out "
+         "|\n|---|---|---|---|---|---|---|\n";
+    for (const EmpiricalTerm& t : r.empirical.terms) {
+      m << "| `" << t.name << "` | `" << t.expression << "` | ";
+      for (std::size_t i = 0; i < t.parameters.size(); ++i)
+        m << (i ? "; " : "") << t.parameters[i].name << " = " << g(t.parameters[i].value, 3) << " +- "
+          << g(t.parameters[i].std_error, 2) << " " << t.parameters[i].unit;
+      m << " | " << g(t.p_value, 2) << " | " << g(t.delta_aicc, 3) << " | " << pct(t.rmser_before) << " -> "
+        << pct(t.rmser_after) << " | " << pct(t.cv_rmser_before) << " -> " << pct(t.cv_rmser_after) << " |\n";
+    }
+    m << "\n";
+  }
   m << "## Where the base model misses (tests on the residuals standardised by the noise model; effects in points of "
        "predicted/measured - 1)\n\n";
   m << "Permutation tests, Holm-adjusted over all " << r.located_before.size() << " tests; ten smallest p-values:\n\n";
@@ -356,6 +417,9 @@ std::string residualsCsv(const DiagnosisResult& r, const DiagnosisData& data) {
        "predicted_wear_kg_per_m_before,predicted_side_force_n_after,predicted_wear_kg_per_m_after,"
        "residual_side_force_before,residual_wear_before,residual_side_force_after,residual_wear_after";
   for (const Covariate& cov : data.covariates) c << "," << cov.name;
+  // With an empirical term: its relative residuals of the output it modifies, last.
+  const EmpiricalTerm* empirical = r.empirical.terms.empty() ? nullptr : &r.empirical.terms.front();
+  if (empirical) c << ",residual_" << outputName(empirical->output) << "_empirical";
   c << "\n";
   std::vector<double> res[2][2];
   for (int o = 0; o < kNumOutputs; ++o) {
@@ -372,6 +436,7 @@ std::string residualsCsv(const DiagnosisResult& r, const DiagnosisData& data) {
       << cell(res[1][1][i]);
     for (const Covariate& cov : data.covariates)
       c << "," << (cov.categorical ? "\"" + cov.levels[static_cast<int>(cov.values[i])] + "\"" : cell(cov.values[i]));
+    if (empirical) c << "," << cell(empirical->prediction[i] / run.measured[static_cast<int>(empirical->output)] - 1.0);
     c << "\n";
   }
   return c.str();

@@ -36,6 +36,8 @@
 ///     eligible candidates of an accepting step whose AICc is less than min_aicc_drop above the accepted model's,
 ///     i.e. not substantially worse supported (Burnham and Anderson's Delta AICc < 2): the recordings cannot tell them
 ///     from the explanation (a sensor gain and a sensor offset, where the design has few low-slip runs).
+///  Empirical terms (empirical.h): with the verdict "unexplained", a family of empirical terms in the top located
+///     covariate goes through the same selection; an accepted one is reported beside the verdict, as empirical.
 ///  6. Detection limits (detectability.h): for each applicable term, the smallest effect that step 4's first F test
 ///     would find with probability detection_power, added to the calibrated base model, at the noise the final
 ///     model leaves (side force in N, wear relative; dof-corrected, floored as the weights). They say what a
@@ -51,6 +53,7 @@
 
 #include "tread_wear/diagnosis/data.h"
 #include "tread_wear/diagnosis/detectability.h"
+#include "tread_wear/diagnosis/empirical.h"
 #include "tread_wear/diagnosis/extensions.h"
 #include "tread_wear/diagnosis/noise_model.h"
 #include "tread_wear/diagnosis/numerics_check.h"
@@ -79,6 +82,8 @@ struct DiagnosisOptions {
   /// Power at which the detection limits (step 6) are set, in (0, 1); 0 = not computed (they cost about as much
   /// as the selection)
   double detection_power = 0.8;
+  /// Fit empirical terms (empirical.h) when the verdict is "unexplained"
+  bool empirical = true;
 
   DiagnosisOptions();
   bool validate(std::string* error) const;
@@ -155,6 +160,7 @@ struct DiagnosisResult {
   std::string explanation;                        ///< library name, "a+b", "none" or "unexplained"
   std::vector<std::string> unexplained_covariates;
   std::vector<CloseAlternative> close_alternatives;  ///< of every accepting step (step 5 above)
+  EmpiricalResult empirical;                         ///< empirical terms, with the verdict "unexplained"
   double side_force_noise_n = 0.0;                ///< noise the final model leaves: side force [N]; NaN if not measured
   double wear_noise_rsd = 0.0;                    ///< and wear, relative [-] (step 6); NaN if not measured
   double detection_power = 0.0;                   ///< power of the detection limits [-]

@@ -85,6 +85,11 @@ const std::vector<TermInfo>& termLibrary();
 /// previous ones. Not thread-safe, and it invalidates references into the library: call it before any diagnosis
 /// runs (user_mechanisms.h, MechanismsInUse).
 std::vector<TermInfo> setUserTerms(std::vector<TermInfo> user);
+/// Makes `lib` the library of the calling thread only (the shared one plus terms of its own, numbered on from its
+/// last: the empirical terms, empirical.h), until it is set back; null = the shared library. `lib` must outlive
+/// its use. Returns the previous setting. Other threads keep the shared library, so a harness's workers can each
+/// fit their own empirical terms.
+const std::vector<TermInfo>* setThreadLibrary(const std::vector<TermInfo>* lib);
 const TermInfo& termInfo(Term term);
 /// Whether the term has a single parameter whose no-effect value is one of its bounds (the effect can only go
 /// one way: surface_polishing, lateral_compliance, load_fluctuation).

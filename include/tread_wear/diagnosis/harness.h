@@ -18,6 +18,9 @@
 ///   false sensor  (cases whose hidden effect does not touch the side force: controls, thermal_wear,
 ///              surface_polishing) the verdict names a sensor term (sensor_gain, sensor_offset), i.e. a transducer
 ///              error on an output the effect leaves alone (issue 26's target: at most 5%)
+///   empirical  (out-of-library cases, HarnessOptions::out_of_library) the diagnosis, whose library lacks the hidden
+///              user-defined mechanism, gives an empirical term (empirical.h) in a covariate the mechanism reads,
+///              with a lower held-out RMSER of the output it affects than the base model's
 /// The recordings are generated at HarnessOptions::generator's preset (default `reference`, the converged grid),
 /// finer than any preset the diagnosis chooses (auto goes up to `fine`), so that the solver's error is part of
 /// every proof; a harness that generated with the diagnosing preset could not see it.
@@ -42,6 +45,7 @@ namespace diagnosis {
 struct HarnessCase {
   ConcealSpec spec;
   std::string magnitude_label;  ///< "default", "small", "large"
+  bool out_of_library = false;  ///< diagnosed with the built-in library less the hidden term (scored: empirical)
 };
 
 struct HarnessOutcome {
@@ -59,6 +63,8 @@ struct HarnessOutcome {
   double estimate = std::numeric_limits<double>::quiet_NaN(), truth = std::numeric_limits<double>::quiet_NaN();
   double std_error = std::numeric_limits<double>::quiet_NaN();  ///< reported standard error of the estimate
   double cv_before[kNumOutputs] = {0.0, 0.0}, cv_after[kNumOutputs] = {0.0, 0.0};
+  bool empirical_scored = false, empirical_ok = false;  ///< out-of-library case; its criterion met
+  std::string empirical_covariate;                      ///< covariate of the empirical term given, "" for none
   bool information = false;  ///< the reference below was computed
   Detectability reference;   ///< detectability of the hidden term on this case's noise-free recordings
   double reference_parameter_ok = std::numeric_limits<double>::quiet_NaN();  ///< probability, see above [-]
@@ -77,6 +83,9 @@ struct HarnessOptions {
   bool two_magnitudes = true;                   ///< small and large magnitude (else the default only)
   int jobs = 1;                                 ///< worker threads
   bool information = false;                     ///< also each case's detectability reference (about a third more time)
+  /// Out-of-library cases: every case (controls too) is diagnosed with the built-in library less the hidden term,
+  /// so that a hidden user-defined mechanism is one the library lacks (scored: empirical)
+  bool out_of_library = false;
   std::uint64_t seed = 1000;
   DiagnosisOptions diagnosis;
   /// Preset that generates the recordings (with the diagnosis's orientation)
