@@ -113,22 +113,27 @@ InputFault WheelPipeline::receive(const InputSample& sample, double wall_s, cons
   }
   std::lock_guard<std::mutex> step_lock(step_mutex_);
   if (!timeline_) return fault;
-  double t_s = 0.0;
   InputTimeline::Push pushed = timeline_->push(sample, wall_s);
   if (pushed == InputTimeline::Push::kBackward) {
     // A looping bag: finish the old time line, then start a new one (the estimator counts the backward jump).
-    while (timeline_->nextStep(wall_s, settings.period_s, true, &loop_inputs_, &t_s)) stepLocked(t_s, settings);
+    while (stepTimeline(wall_s, settings, true)) {
+    }
     timeline_->restart();
     pushed = timeline_->push(sample, wall_s);
   }
   // A full ring: release steps without the lagging input until there is room (each releases samples, so this ends).
-  while (pushed == InputTimeline::Push::kFull &&
-         timeline_->nextStep(wall_s, settings.period_s, true, &loop_inputs_, &t_s)) {
-    stepLocked(t_s, settings);
+  while (pushed == InputTimeline::Push::kFull && stepTimeline(wall_s, settings, true))
     pushed = timeline_->push(sample, wall_s);
+  while (stepTimeline(wall_s, settings, false)) {
   }
-  while (timeline_->nextStep(wall_s, settings.period_s, false, &loop_inputs_, &t_s)) stepLocked(t_s, settings);
   return fault;
+}
+
+bool WheelPipeline::stepTimeline(double wall_s, const StepSettings& settings, bool flush) {
+  double t_s = 0.0;
+  if (!timeline_->nextStep(wall_s, settings.period_s, flush, &loop_inputs_, &t_s)) return false;
+  stepLocked(t_s, settings);
+  return true;
 }
 
 const WheelOutput& WheelPipeline::step(double now_s, const StepSettings& settings) {

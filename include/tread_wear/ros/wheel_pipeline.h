@@ -119,6 +119,9 @@ class WheelPipeline {
  private:
   /// One estimator step at now_s [s] on loop_inputs_ (the caller holds step_mutex_).
   void stepLocked(double now_s, const StepSettings& settings);
+  /// Input time: the timeline's next step due (InputTimeline::nextStep, `flush` as there), if any, taken with
+  /// stepLocked(); false when none is due (the caller holds step_mutex_).
+  bool stepTimeline(double wall_s, const StepSettings& settings, bool flush);
 
   WheelConfig config_;
   TireParams tire_;
