@@ -75,6 +75,9 @@ DiagnosisData buildDiagnosisData(const RunTable& table) {
     run.condition = rec.condition_id;
     run.cycle = rec.cycle_id;
     run.run_order = rec.run_order;
+    run.drive_points = rec.drive_points;
+    run.drive_time_s = rec.drive_time_s;
+    run.drive_distance_m = rec.drive_distance_m;
     const std::string where = "run " + std::to_string(i + 1) + " (condition '" + rec.condition_id + "')";
     if (!(rec.op.speed_mps > 0.0))
       throw DiagnosisError(where + ": speed_mps = " + std::to_string(rec.op.speed_mps) +
@@ -89,6 +92,16 @@ DiagnosisData buildDiagnosisData(const RunTable& table) {
     double distance = col_distance >= 0 ? rec.covariates[col_distance] : std::numeric_limits<double>::quiet_NaN();
     if (!std::isfinite(distance) && col_duration >= 0) distance = rec.op.speed_mps * rec.covariates[col_duration];
     run.sliding_distance_m = distance * std::abs(std::sin(rec.op.slip_angle_rad));
+    if (run.isDrive()) {
+      // Eq 1 summed over the drive's points: the mean slip angle of a drive says little (left and right turns).
+      run.sliding_distance_m = 0.0;
+      for (const WeightedOperatingPoint& p : run.drive_points) {
+        run.sliding_distance_m += p.distance_m * std::abs(std::sin(p.op.slip_angle_rad));
+        if (p.op.path_curvature_per_m != 0.0) d.has_turn_slip = true;
+      }
+      if (!(run.drive_distance_m > 0.0) || !(run.drive_time_s > 0.0))
+        throw DiagnosisError(where + ": a drive segment without integrated distance or time");
+    }
     all_temperature = all_temperature && std::isfinite(run.tread_temperature_c);
     if (std::isfinite(run.load_std_n) && run.load_std_n > 0.0) d.has_load_std = true;
     if (rec.op.path_curvature_per_m != 0.0) d.has_turn_slip = true;

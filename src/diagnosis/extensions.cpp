@@ -4,9 +4,11 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <set>
 #include <stdexcept>
 
 #include "tread_wear/diagnosis/user_mechanisms.h"
+#include "tread_wear/model/point_cells.h"
 
 namespace tread_wear {
 namespace diagnosis {
@@ -159,6 +161,16 @@ bool termApplicable(Term term, const DiagnosisData& data, std::string* why_not) 
   }
 }
 
+namespace {
+
+/// Steady runs with this key share one brush evaluation (repeats of a condition).
+std::array<double, 6> steadyKey(const DiagnosisRun& r) {
+  return {r.op.speed_mps, r.op.slip_angle_rad, r.op.slip_ratio, r.op.path_curvature_per_m, r.op.load_n,
+          std::isfinite(r.load_std_n) ? r.load_std_n : 0.0};
+}
+
+}  // namespace
+
 ExtendedModel::ExtendedModel(const TireParams& base, const ExtendedModelOptions& options, std::vector<Term> terms,
                              const DiagnosisData& data)
     : base_(base), options_(options), terms_(std::move(terms)), data_(data) {
@@ -178,6 +190,29 @@ ExtendedModel::ExtendedModel(const TireParams& base, const ExtendedModelOptions&
     orientation = orientation == TurnSlipOrientation::kLiteral ? TurnSlipOrientation::kFlipped
                                                                : TurnSlipOrientation::kLiteral;
   brush_options_ = presetOptions(options_.preset, orientation);
+
+  std::set<std::array<double, 6>> steady;
+  PointCells cells;
+  drive_shares_.resize(data_.runs.size());
+  for (std::size_t i = 0; i < data_.runs.size(); ++i) {
+    const DiagnosisRun& r = data_.runs[i];
+    if (!r.isDrive()) {
+      steady.insert(steadyKey(r));
+      continue;
+    }
+    for (const WeightedOperatingPoint& p : r.drive_points) {
+      const int cell = cells.add(p);
+      if (cell >= 0) drive_shares_[i].push_back({cell, p.time_s, p.distance_m});
+    }
+  }
+  distinct_steady_ = steady.size();
+  for (const WeightedOperatingPoint& p : cells.points()) {
+    DiagnosisRun c;
+    c.op = p.op;
+    c.op.tread_temperature_c = std::numeric_limits<double>::quiet_NaN();
+    c.tread_temperature_c = p.op.tread_temperature_c;
+    drive_cells_.push_back(c);
+  }
 }
 
 int ExtendedModel::parameterOffset(Term term) const { return offsets_[static_cast<int>(term)]; }
@@ -289,10 +324,13 @@ bool ExtendedModel::predict(const std::vector<double>& values, Prediction* out) 
   const double load_std_scale = has(Term::kLoadFluctuation) ? value(Term::kLoadFluctuation, 0) : 0.0;
   const std::vector<double> key = {mu_scale, k_t, compliance, q, load_std_scale};
   const int n = static_cast<int>(data_.runs.size());
+  const int n_cells = static_cast<int>(drive_cells_.size());
 
+  // Raw brush results of the runs (0..n-1; unused for drive segments) and of the drive cells (n..n+cells-1).
   auto found = cache_.find(key);
   if (found == cache_.end()) {
-    std::vector<RawResult> raw(n);
+    std::vector<RawResult> raw(n + n_cells);
+    auto point = [&](int j) -> const DiagnosisRun& { return j < n ? data_.runs[j] : drive_cells_[j - n]; };
     try {
       TireParams p = base_;
       p.friction.mu_0 *= mu_scale;
@@ -301,54 +339,72 @@ bool ExtendedModel::predict(const std::vector<double>& values, Prediction* out) 
       p.wear.temperature_enabled = false;  // Eq 25 is applied below, after the brush evaluation
       if (k_t != 0.0) {
         const double t_ref = termInfo(Term::kThermalFriction).temperature_ref_c;
-        for (int i = 0; i < n; ++i) {
-          const double factor = 1.0 - k_t * (data_.runs[i].tread_temperature_c - t_ref);
+        for (int j = 0; j < n + n_cells; ++j) {
+          if (j < n && data_.runs[j].isDrive()) continue;
+          const double factor = 1.0 - k_t * (point(j).tread_temperature_c - t_ref);
           if (!(factor > 0.05)) return false;  // friction would vanish: outside the term's validity
-          TireParams pi = p;
-          pi.friction.mu_0 *= factor;
-          pi.friction.mu_m *= factor;
-          const BrushWearModel model(pi, brush_options_);
-          raw[i] = evaluateRun(model, data_.runs[i], compliance, load_std_scale);
+          TireParams pj = p;
+          pj.friction.mu_0 *= factor;
+          pj.friction.mu_m *= factor;
+          const BrushWearModel model(pj, brush_options_);
+          raw[j] = evaluateRun(model, point(j), compliance, load_std_scale);
         }
       } else {
         const BrushWearModel model(p, brush_options_);
         // Repeats of a condition share one evaluation.
         std::map<std::array<double, 6>, RawResult> seen;
         for (int i = 0; i < n; ++i) {
-          const DiagnosisRun& r = data_.runs[i];
-          const std::array<double, 6> op_key = {r.op.speed_mps, r.op.slip_angle_rad, r.op.slip_ratio,
-                                                r.op.path_curvature_per_m, r.op.load_n,
-                                                std::isfinite(r.load_std_n) ? r.load_std_n : 0.0};
-          auto it = seen.find(op_key);
-          if (it == seen.end()) it = seen.emplace(op_key, evaluateRun(model, r, compliance, load_std_scale)).first;
+          if (data_.runs[i].isDrive()) continue;
+          auto it = seen.find(steadyKey(data_.runs[i]));
+          if (it == seen.end())
+            it = seen.emplace(steadyKey(data_.runs[i]), evaluateRun(model, data_.runs[i], compliance, load_std_scale))
+                     .first;
           raw[i] = it->second;
         }
+        for (int c = 0; c < n_cells; ++c) raw[n + c] = evaluateRun(model, drive_cells_[c], compliance, load_std_scale);
       }
     } catch (const std::exception&) {
       return false;
     }
+    brush_evaluations_ += static_cast<long>(evaluationPoints());
     if (cache_.size() >= kCacheEntries) cache_.clear();
     found = cache_.emplace(key, std::move(raw)).first;
   }
   const std::vector<RawResult>& raw = found->second;
+  // The w3 factor of Eq 25 (or the thermal_wear term) at a tread temperature.
+  auto thermal_w3 = [&](double temperature_c) {
+    if (has(Term::kThermalWear)) {
+      const double d = temperature_c - value(Term::kThermalWear, 0);
+      const double s = value(Term::kThermalWear, 1);
+      return std::exp(d * d / (2.0 * s * s));
+    }
+    return base_.wear.temperature_enabled ? base_.wear.temperatureFactor(temperature_c) : 1.0;
+  };
   out->side_force_n.resize(n);
   out->wear_kg_per_m.resize(n);
   for (int i = 0; i < n; ++i) {
     const DiagnosisRun& r = data_.runs[i];
     double fy = raw[i].fy_n;
-    if (has(Term::kSensorGain)) fy *= value(Term::kSensorGain, 0);
-    if (has(Term::kSensorOffset)) fy += value(Term::kSensorOffset, 0);
     double w3_factor = w3_scale;
-    if (has(Term::kThermalWear)) {
-      const double d = r.tread_temperature_c - value(Term::kThermalWear, 0);
-      const double s = value(Term::kThermalWear, 1);
-      w3_factor *= std::exp(d * d / (2.0 * s * s));
-    } else if (base_.wear.temperature_enabled) {
-      w3_factor *= base_.wear.temperatureFactor(r.tread_temperature_c);
-    }
     if (has(Term::kSurfacePolishing))
       w3_factor *= std::exp(-value(Term::kSurfacePolishing, 0) * r.cumulative_sliding_m / 1000.0);
-    double wear = w3_factor * raw[i].wear_w3_kg_per_m + raw[i].wear_w4_kg_per_m;
+    double wear = 0.0;
+    if (r.isDrive()) {
+      double fy_sum = 0.0, wear_sum = 0.0;
+      for (const CellShare& s : drive_shares_[i]) {
+        const RawResult& c = raw[n + s.cell];
+        fy_sum += c.fy_n * s.time_s;
+        wear_sum += (w3_factor * thermal_w3(drive_cells_[s.cell].tread_temperature_c) * c.wear_w3_kg_per_m +
+                     c.wear_w4_kg_per_m) *
+                    s.distance_m;
+      }
+      fy = fy_sum / r.drive_time_s;
+      wear = wear_sum / r.drive_distance_m;
+    } else {
+      wear = w3_factor * thermal_w3(r.tread_temperature_c) * raw[i].wear_w3_kg_per_m + raw[i].wear_w4_kg_per_m;
+    }
+    if (has(Term::kSensorGain)) fy *= value(Term::kSensorGain, 0);
+    if (has(Term::kSensorOffset)) fy += value(Term::kSensorOffset, 0);
     for (const auto& [offset, evaluator] : user_terms_) evaluator->apply(i, &values[offset], &fy, &wear);
     out->side_force_n[i] = fy;
     out->wear_kg_per_m[i] = wear;

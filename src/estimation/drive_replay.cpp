@@ -156,6 +156,8 @@ void DriveReplay::runWheel(int wheel, std::atomic<std::uint64_t>* progress) {
     r.status = out.status;
     r.preset = out.preset;
     r.evaluated = out.evaluated;
+    r.integrated = out.integrated;
+    if (out.evaluated) r.op = operatingPoint(run.inputs, t, settings_.estimator.stale_timeout_s);
     if (progress != nullptr && ++unreported == kProgressBatch) {
       progress->fetch_add(unreported);
       unreported = 0;

@@ -197,6 +197,26 @@ void WheelEstimator::loseInterval(double dt, WheelStatus cause) {
   unaccounted_by_cause_s_[static_cast<int>(cause)] += dt;
 }
 
+WheelStatus requiredInputStatus(const WheelInputs& inputs, double now_s, double stale_timeout_s) {
+  WheelStatus status = WheelStatus::kOk;
+  for (InputKind kind : {InputKind::kLoad, InputKind::kSlip, InputKind::kSpeed}) {
+    const WheelInputs::Sample& s = inputs.sample(kind);
+    WheelStatus st = WheelStatus::kOk;
+    if (s.received == 0) {
+      st = WheelStatus::kNoInput;
+    } else if (!s.valid) {
+      st = WheelStatus::kInvalidInput;
+    } else if (std::fabs(now_s - s.stamp_s) > stale_timeout_s) {
+      st = WheelStatus::kStaleInput;
+    }
+    // Report the most actionable problem: invalid data over stale data over missing data.
+    if (st == WheelStatus::kInvalidInput || (st == WheelStatus::kStaleInput && status != WheelStatus::kInvalidInput) ||
+        (st == WheelStatus::kNoInput && status == WheelStatus::kOk))
+      status = st;
+  }
+  return status;
+}
+
 const WheelOutput& WheelEstimator::step(double now_s, const WheelInputs& inputs, const WearModel& model,
                                         PatchFields* fields) {
   output_.evaluated = false;
@@ -220,23 +240,7 @@ const WheelOutput& WheelEstimator::step(double now_s, const WheelInputs& inputs,
 
   // Sample the required inputs: each must exist, be valid and be fresh. An input stamped in the future (possible
   // just after the clock jumped backwards) counts as stale.
-  WheelStatus input_status = WheelStatus::kOk;
-  for (InputKind kind : {InputKind::kLoad, InputKind::kSlip, InputKind::kSpeed}) {
-    const WheelInputs::Sample& s = inputs.sample(kind);
-    WheelStatus st = WheelStatus::kOk;
-    if (s.received == 0) {
-      st = WheelStatus::kNoInput;
-    } else if (!s.valid) {
-      st = WheelStatus::kInvalidInput;
-    } else if (std::fabs(now_s - s.stamp_s) > params_.stale_timeout_s) {
-      st = WheelStatus::kStaleInput;
-    }
-    // Report the most actionable problem: invalid data over stale data over missing data.
-    if (st == WheelStatus::kInvalidInput ||
-        (st == WheelStatus::kStaleInput && input_status != WheelStatus::kInvalidInput) ||
-        (st == WheelStatus::kNoInput && input_status == WheelStatus::kOk))
-      input_status = st;
-  }
+  const WheelStatus input_status = requiredInputStatus(inputs, now_s, params_.stale_timeout_s);
   if (input_status == WheelStatus::kStaleInput) ++stale_steps_;
 
   if (input_status != WheelStatus::kOk) {

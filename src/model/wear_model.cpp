@@ -146,6 +146,22 @@ bool WearModel::fitsFields(Preset preset, const PatchFields& fields) const {
          fields.pressure_pa.size() == static_cast<size_t>(s.nodesX()) * static_cast<size_t>(s.strips());
 }
 
+OperatingPoint lowSpeedPoint(const OperatingPoint& op, const WearModelOptions& options, bool* low_speed) {
+  OperatingPoint eval_op = op;
+  bool low = false;
+  if (op.speed_mps < options.min_speed_mps) {
+    eval_op.speed_mps = options.min_speed_mps;
+    low = true;
+  }
+  const double vx = eval_op.longitudinalSpeed();  // > 0: speed > 0 and |alpha| < pi/2
+  if (eval_op.rollingSpeed() < options.min_rolling_speed_mps) {
+    eval_op.slip_ratio = options.min_rolling_speed_mps / vx - 1.0;
+    low = true;
+  }
+  if (low_speed != nullptr) *low_speed = low;
+  return eval_op;
+}
+
 EvalStatus WearModel::evaluate(const OperatingPoint& op, WearResult* result, PatchFields* fields) const {
   if (!op.validate(nullptr)) return EvalStatus::kInvalidInput;
   Preset preset = choosePreset();
@@ -156,17 +172,9 @@ EvalStatus WearModel::evaluate(const OperatingPoint& op, WearResult* result, Pat
     if (!fitsFields(preset, *fields)) fields = nullptr;  // sized for no preset: left untouched
   }
   const BrushWearModel& solver = *solvers_[static_cast<int>(preset)];
-  OperatingPoint eval_op = op;
-  EvalStatus status = EvalStatus::kOk;
-  if (op.speed_mps < options_.min_speed_mps) {
-    eval_op.speed_mps = options_.min_speed_mps;
-    status = EvalStatus::kLowSpeed;
-  }
-  const double vx = eval_op.longitudinalSpeed();  // > 0: speed > 0 and |alpha| < pi/2
-  if (eval_op.rollingSpeed() < options_.min_rolling_speed_mps) {
-    eval_op.slip_ratio = options_.min_rolling_speed_mps / vx - 1.0;
-    status = EvalStatus::kLowSpeed;
-  }
+  bool low_speed = false;
+  const OperatingPoint eval_op = lowSpeedPoint(op, options_, &low_speed);
+  const EvalStatus status = low_speed ? EvalStatus::kLowSpeed : EvalStatus::kOk;
   const auto start = std::chrono::steady_clock::now();
   solver.evaluate(eval_op, result, fields);
   const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

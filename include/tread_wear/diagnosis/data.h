@@ -48,6 +48,12 @@ struct DiagnosisRun {
   std::string condition;  ///< condition label (repeats share it)
   int cycle = -1;         ///< surface cycle (-1 = unknown)
   int run_order = -1;     ///< order in the campaign (-1 = unknown)
+  /// A drive segment's integrated operating points (RunRecord::drive_points); empty for a steady run. The model
+  /// then predicts W_r = sum W_r(op_k) d_k / drive_distance_m and Fy = sum Fy(op_k) t_k / drive_time_s.
+  std::vector<WeightedOperatingPoint> drive_points;
+  double drive_time_s = 0.0;      ///< [s]
+  double drive_distance_m = 0.0;  ///< [m]
+  bool isDrive() const { return !drive_points.empty(); }
 };
 
 /// A covariate the locating tests look at.

@@ -25,7 +25,14 @@
 /// is exact for polynomials up to degree 5 and smooth in s_load, which a least-squares Jacobian needs.
 /// Lateral compliance solves alpha_eff = alpha + c_lat Fy(alpha_eff) by secant iteration (|dFy/dalpha| c_lat < 1
 /// for any plausible compliance, so the root is unique).
-/// Limits: steady state per run; the temperature is the recorded mean tread temperature of the run.
+/// Drive segments (DiagnosisRun::isDrive) are predicted from their integrated operating points: the points of
+/// all segments share one set of cells (point_cells.h), the model is evaluated once per cell, and a segment's
+/// W_r is the distance-weighted sum over its cells (Fy the time-weighted one). Terms act per cell where they
+/// depend on the point (the thermal terms on the cell's temperature, the friction and compliance terms through the
+/// brush evaluation) and per segment otherwise (surface_polishing, the sensor terms, user terms on the segment's
+/// means and covariates).
+/// Limits: steady state per run or per drive point; a steady run's temperature is its recorded mean tread
+/// temperature.
 
 #include <map>
 #include <memory>
@@ -138,6 +145,13 @@ class ExtendedModel {
   int parameterOffset(Term term) const;
   /// Predicts all runs. Returns false when the brush model cannot be evaluated at these values.
   bool predict(const std::vector<double>& values, Prediction* out) const;
+  /// Operating points the brush model is evaluated at per set of brush-relevant parameter values: the distinct
+  /// steady conditions plus the cells of all drive segments together (point_cells.h).
+  std::size_t evaluationPoints() const { return distinct_steady_ + drive_cells_.size(); }
+  /// Brush evaluations so far: only a change of a brush-relevant parameter (mu_scale, a friction, compliance or
+  /// load-spread term) re-simulates; w3_scale, thermal_wear, surface_polishing, the sensor terms and user terms
+  /// act on cached results.
+  long brushEvaluations() const { return brush_evaluations_; }
 
  private:
   struct RawResult {
@@ -149,6 +163,12 @@ class ExtendedModel {
   RawResult evaluateRun(const BrushWearModel& model, const DiagnosisRun& run, double compliance,
                         double load_std_scale) const;
 
+  /// The drive segments' contributions to their cells: run, cell, time [s], distance [m].
+  struct CellShare {
+    int cell;
+    double time_s, distance_m;
+  };
+
   TireParams base_;
   ExtendedModelOptions options_;
   std::vector<Term> terms_;
@@ -158,6 +178,10 @@ class ExtendedModel {
   std::vector<std::pair<int, std::shared_ptr<MechanismEvaluator>>> user_terms_;
   const DiagnosisData& data_;
   BrushOptions brush_options_;
+  std::size_t distinct_steady_ = 0;  ///< distinct conditions of the steady runs
+  std::vector<DiagnosisRun> drive_cells_;  ///< centroids of the drive segments' cells (temperature in tread_temperature_c)
+  std::vector<std::vector<CellShare>> drive_shares_;  ///< per run; empty for a steady run
+  mutable long brush_evaluations_ = 0;
   /// Brush results for the last few values of the brush-relevant parameters (the post-processing terms,
   /// e.g. thermal_wear or the sensor terms, then reuse them: their Jacobian columns cost no brush solve).
   mutable std::map<std::vector<double>, std::vector<RawResult>> cache_;

@@ -219,6 +219,10 @@ class WheelEstimator {
   std::array<double, kWheelStatusCount> unaccounted_by_cause_s_{};
 };
 
+/// Whether the required inputs (load, slip, speed) are usable at now_s [s]: kOk, or the most actionable problem
+/// (an invalid input over a stale one over a missing one). The rule WheelEstimator::step() applies.
+WheelStatus requiredInputStatus(const WheelInputs& inputs, double now_s, double stale_timeout_s);
+
 /// The operating point of a wheel's inputs at time now_s [s]: load, speed and slips as they are; the tread
 /// temperature when valid and no older than stale_timeout_s [s], else NaN (unknown). WheelEstimator::step(),
 /// the node's planner service and its markers all evaluate this point.

@@ -34,6 +34,11 @@ struct RunRecord {
   int run_order = -1;        ///< order within the campaign; -1 = unknown
   std::vector<double> covariates;            ///< numeric extra columns, aligned with RunTable::covariate_names
   std::vector<std::string> text_covariates;  ///< text extra columns, aligned with RunTable::text_covariate_names
+  /// A drive segment (not in the CSV format): the operating points integrated over it with their weights
+  /// (estimation/drive_segments.h); empty for a steady run, which the model evaluates at `op`.
+  std::vector<WeightedOperatingPoint> drive_points;
+  double drive_time_s = 0.0;      ///< integrated time of the segment [s]
+  double drive_distance_m = 0.0;  ///< integrated distance of the segment, zero-load steps included [m]
 };
 
 struct RunTable {

@@ -67,4 +67,13 @@ struct OperatingPoint {
   }
 };
 
+/// An operating point of a drive with its share of the drive's integrals (drive segments: estimation/drive_segments.h).
+/// A quantity q integrated over the drive by the trapezoid rule is the sum of q(op) time_s over its points; wear
+/// per time is W_r(op) times the wheel's own speed, so the wear is the sum of W_r(op) distance_m.
+struct WeightedOperatingPoint {
+  OperatingPoint op;        ///< the point the model is evaluated at (low-speed convention applied), T included
+  double time_s = 0.0;      ///< time weight [s], >= 0
+  double distance_m = 0.0;  ///< distance weight [m] = time weight times the wheel's speed, >= 0
+};
+
 }  // namespace tread_wear

@@ -70,6 +70,11 @@ enum class EvalStatus {
   kInvalidInput = 2  ///< the operating point failed validate(); result untouched
 };
 
+/// The point the model is evaluated at for the operating point `op` under the low-speed convention above (speed
+/// raised to min_speed_mps, slip ratio raised so that V_r >= min_rolling_speed_mps); *low_speed (optional) says
+/// whether either applied. W_r there, times op's own speed, is the wear per time WearModel::evaluate() returns.
+OperatingPoint lowSpeedPoint(const OperatingPoint& op, const WearModelOptions& options, bool* low_speed = nullptr);
+
 class WearModel {
  public:
   static constexpr int kPresets = static_cast<int>(std::size(kAllPresets));
