@@ -1,5 +1,6 @@
 #include "tread_wear/cli/diagnose_cli.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -29,7 +30,8 @@ const char* const kDiagnoseUsage =
     "       [--wear-noise-model auto|additive|relative|combined]\n"
     "       [--candidates a,b,...] [--mechanisms FILE]\n"
     "       [--max-terms N] [--alpha-locate X] [--alpha-select X] [--detection-power X] [--seed N]\n"
-    "       [--plot-script PATH | --no-plots]\n";
+    "       [--plot-script PATH | --no-plots]\n"
+    "       [--input-timeout-s S] [--update-rate-hz HZ]   (--bag: integration of each wheel's inputs)\n";
 
 }  // namespace
 
@@ -40,7 +42,7 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
   const bool parsed = a.parse(argc, argv,
                {"params", "runs", "bag", "report", "orientation", "preset", "candidates", "max-terms",
                 "alpha-locate", "alpha-select", "detection-power", "seed", "plot-script", "force-noise-model",
-                "wear-noise-model", "mechanisms"},
+                "wear-noise-model", "mechanisms", "input-timeout-s", "update-rate-hz"},
                {"no-plots"}, &parse_error);
   auto usage = [&](const std::string& msg) { return usageError(err, "tread_wear_diagnose", msg, kDiagnoseUsage); };
   if (a.help()) {
@@ -71,6 +73,13 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
       !a.integer("seed", &seed, &e))
     return usage(e);
   if (opt.max_terms < 0 || opt.max_terms > 4) return usage("--max-terms must be an integer in 0..4");
+  ReplaySettings replay;
+  if (!a.number("input-timeout-s", &replay.estimator.stale_timeout_s, &e) ||
+      !a.number("update-rate-hz", &replay.update_rate_hz, &e))
+    return usage(e);
+  // A step longer than the timeout is a gap, not a time jump, unless it is longer than both.
+  replay.estimator.max_step_s = std::max(replay.estimator.max_step_s, 2.0 * replay.estimator.stale_timeout_s);
+  if (!replay.validate(&e)) return usage(e);
   if (seed < 0) return usage("--seed must be a non-negative integer");
   opt.seed = static_cast<std::uint64_t>(seed);
   if (!opt.validate(&e)) return usage(e);
@@ -78,7 +87,7 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
   try {
     const TireParams params = loadTireParams(a.get("params"));
     const std::string source = a.has("runs") ? a.get("runs") : a.get("bag");
-    RunTable table = a.has("runs") ? readRunTable(source) : bag_reader(source);
+    RunTable table = a.has("runs") ? readRunTable(source) : bag_reader(source, params, replay);
     const std::vector<std::string> warnings = screenSideForceSigns(params, opt.model.orientation, &table);
     for (const std::string& w : warnings) err << "tread_wear_diagnose: warning: " << w << "\n";
     DiagnosisData data = buildDiagnosisData(table);

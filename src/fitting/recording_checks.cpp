@@ -23,10 +23,20 @@ std::vector<std::string> screenSideForceSigns(const TireParams& params, TurnSlip
     if (!std::isfinite(run.measured_side_force_n) || run.measured_side_force_n == 0.0 || !run.op.validate(nullptr))
       continue;
     WearResult predicted;
-    model.evaluate(run.op, &predicted);
-    if (!(std::fabs(predicted.fy_n) >= kSideForceSignCheckShareOfLoad * run.op.load_n)) continue;
+    double fy_n = 0.0;
+    if (run.drive_points.empty()) {
+      model.evaluate(run.op, &predicted);
+      fy_n = predicted.fy_n;
+    } else {
+      // A drive segment's mean side force over its points (signed slips are in the points, not in the means).
+      for (const WeightedOperatingPoint& p : run.drive_points) {
+        model.evaluate(p.op, &predicted);
+        fy_n += predicted.fy_n * p.time_s / run.drive_time_s;
+      }
+    }
+    if (!(std::fabs(fy_n) >= kSideForceSignCheckShareOfLoad * run.op.load_n)) continue;
     ++checked;
-    if ((run.measured_side_force_n > 0.0) != (predicted.fy_n > 0.0)) opposite.push_back({i, predicted.fy_n});
+    if ((run.measured_side_force_n > 0.0) != (fy_n > 0.0)) opposite.push_back({i, fy_n});
   }
   auto describe = [&](const Opposite& o) {
     std::ostringstream s;

@@ -146,7 +146,7 @@ TEST(DiagnosisInputs, CliDataErrors) {
                   "axis convention");
   const CliResult bad_bag =
       diagnoseCli({"--params", kParams, "--bag", "x.bag", "--report", "r"},
-                  [](const std::string& p) -> RunTable { throw std::runtime_error(p + ": not a bag"); });
+                  [](const std::string& p, const TireParams&, const ReplaySettings&) -> RunTable { throw std::runtime_error(p + ": not a bag"); });
   EXPECT_EQ(bad_bag.code, 1);
   EXPECT_NE(bad_bag.err.find("x.bag: not a bag"), std::string::npos) << bad_bag.err;
 }

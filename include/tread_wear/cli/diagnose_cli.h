@@ -7,20 +7,26 @@
 #include <ostream>
 #include <string>
 
+#include "tread_wear/estimation/drive_replay.h"
 #include "tread_wear/io/run_table.h"
 
 namespace tread_wear {
 namespace diagnosis {
 
-/// Converts a rosbag into run records (the ROS-side adapter: ros/bag/diagnosis_bag.h).
+/// Converts a rosbag into run records (the ROS-side adapter: ros/bag/diagnosis_bag.h), with the tire file (tread
+/// depth to mass) and the replay's rules for integrating each wheel's inputs.
 /// @throw std::exception with a message naming the problem.
-using BagReader = std::function<RunTable(const std::string& bag_path)>;
+using BagReader =
+    std::function<RunTable(const std::string& bag_path, const TireParams& tire, const ReplaySettings& replay)>;
 
 /// tread_wear_diagnose --params FILE (--runs FILE.csv | --bag FILE.bag) --report DIR
 ///     [--orientation literal|flipped] [--preset auto|fast|standard|fine|reference]
 ///     [--force-noise-model auto|additive|relative|combined] [--wear-noise-model auto|additive|relative|combined]
 ///     [--candidates a,b,...] [--max-terms N] [--alpha-locate X] [--alpha-select X] [--detection-power X] [--seed N]
-///     [--plot-script PATH | --no-plots]
+///     [--plot-script PATH | --no-plots] [--input-timeout-s S] [--update-rate-hz HZ]
+/// A bag's inputs are integrated on the replay's grid (--update-rate-hz, default 100) and an input older than
+/// --input-timeout-s (default 0.5, the node's) is not integrated: a bag written with sparse messages (a rig
+/// program with one sample per minute) needs a longer timeout.
 /// Writes DIR/diagnosis.json, DIR/report.md, DIR/residuals.csv and (with the plot script) DIR/*.png. The preset
 /// decision (diagnosis.h, step 0) goes to `err`, with a warning when a given preset fails its solver-error check; a
 /// refusal (even `fine` too coarse for the noise) is bad data, exit 1.

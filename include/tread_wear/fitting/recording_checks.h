@@ -20,7 +20,8 @@ namespace tread_wear {
 /// model's own error can flip the sign.
 constexpr double kSideForceSignCheckShareOfLoad = 0.1;
 
-/// Compares each measured side force with the `fast`-preset brush model's at the run's conditions (parameter file
+/// Compares each measured side force with the `fast`-preset brush model's at the run's conditions (a drive
+/// segment: the time-weighted mean over its points; parameter file
 /// as given, orientation as given). A run of the opposite sign has its side force set to not measured (NaN; its
 /// wear stays) and gets a warning, "run i (condition 'c'): why; left out of the fit", returned in run order.
 /// @throw RunTableError when more than half of the checked runs have the opposite sign (another axis convention).

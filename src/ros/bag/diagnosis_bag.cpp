@@ -2,7 +2,7 @@
 
 #include <cmath>
 #include <map>
-#include <set>
+#include <memory>
 #include <stdexcept>
 
 #include <geometry_msgs/WrenchStamped.h>
@@ -11,26 +11,34 @@
 #include <std_msgs/Float64.h>
 #include <std_msgs/Int32.h>
 
+#include "tread_wear/estimation/drive_segments.h"
 #include "tread_wear/ros/bag/bag_check.h"
-#include <tread_wear/TreadTemperature.h>
-#include <tread_wear/WheelLoad.h>
-#include <tread_wear/WheelSlip.h>
-#include <tread_wear/WheelSpeed.h>
+#include "tread_wear/ros/bag/drive_bag_reader.h"
 
 namespace tread_wear {
 namespace diagnosis {
 namespace {
 
-/// Time-weighted sums of one segment (inputs held at their last value between messages).
-struct Segment {
-  double t = 0.0, moving_t = 0.0, distance = 0.0;
-  double speed = 0.0, alpha = 0.0, kappa = 0.0, curvature = 0.0, load = 0.0, load2 = 0.0;
-  double temp = 0.0, temp_t = 0.0;
+std::string withoutLeadingSlash(const std::string& topic) {
+  return !topic.empty() && topic[0] == '/' ? topic.substr(1) : topic;
+}
+
+/// What one wheel's measurement topics hold.
+struct WheelRecord {
+  std::string name;
+  bool by_mass = false;                            ///< masses, else tread depths
+  std::vector<std::pair<double, double>> checkpoints;  ///< (time [s], mass [kg] or -depth x mass per depth [kg])
+  std::vector<std::pair<double, int>> cycles;      ///< (time, id)
+  std::vector<std::pair<double, double>> forces;   ///< (time, Fy [N])
 };
+
+constexpr const char* kInputNames[kInputKindCount] = {"load", "slip", "speed", "tread_temperature"};
 
 }  // namespace
 
-RunTable readDiagnosisBag(const std::string& path) {
+RunTable readDiagnosisBag(const std::string& path, const TireParams& tire, const ReplaySettings& replay) {
+  std::string error;
+  if (!tire.validate(&error)) throw std::runtime_error("tire parameters: " + error);
   checkBagRecords(path);
   rosbag::Bag bag;
   try {
@@ -38,141 +46,143 @@ RunTable readDiagnosisBag(const std::string& path) {
   } catch (const std::exception& e) {
     throw std::runtime_error(path + ": cannot open the bag: " + e.what());
   }
-  std::set<std::string> wheels;
-  {
-    rosbag::View all(bag);
-    for (const rosbag::ConnectionInfo* c : all.getConnections()) {
-      const std::string& t = c->topic;
-      const std::string suffix = "/measured/mass";
-      if (t.size() > suffix.size() && t.compare(t.size() - suffix.size(), suffix.size(), suffix) == 0) {
-        std::string w = t.substr(0, t.size() - suffix.size());
-        if (!w.empty() && w[0] == '/') w.erase(0, 1);
-        if (w.rfind("wheels/", 0) == 0) wheels.insert(w.substr(7));
-      }
-    }
-  }
-  if (wheels.empty())
-    throw std::runtime_error(path + ": no topic wheels/<name>/measured/mass (std_msgs/Float64 mass checkpoints)");
-  const std::string prefix = "wheels/" + *wheels.begin() + "/";
-  auto topic = [&](const char* name) { return prefix + name; };
-  std::vector<std::string> topics;  // with and without the leading slash
-  for (const char* name : {"load", "slip", "speed", "tread_temperature", "measured/side_force", "measured/mass",
-                           "measured/cycle"}) {
-    topics.push_back(topic(name));
-    topics.push_back("/" + topic(name));
-  }
-  auto ends = [](const std::string& t, const std::string& s) {
-    return t.size() >= s.size() && t.compare(t.size() - s.size(), s.size(), s) == 0;
-  };
   RunTable table;
   table.covariate_names = {"distance_m", "duration_s", "mass_loss_kg"};
-  double speed = NAN, alpha = NAN, kappa = 0.0, curvature = 0.0, load = NAN, temp = NAN;
-  std::vector<std::pair<double, int>> cycles;     // (time, id) of every cycle message
-  std::vector<std::pair<double, double>> forces;  // (time, Fy) of the side-force samples not yet assigned
-  bool have_mass = false;
-  double mass = 0.0, last_t = NAN;
-  Segment seg;
-  int segment_index = 0;
+  table.text_covariate_names = {"wheel"};
   try {
-    rosbag::View view(bag, rosbag::TopicQuery(topics));
-    for (const rosbag::MessageInstance& m : view) {
-      const double t = m.getTime().toSec();
-      // Integrate the held inputs over [last_t, t).
-      if (have_mass && std::isfinite(last_t) && std::isfinite(speed) && std::isfinite(alpha) && std::isfinite(load)) {
-        const double dt = t - last_t;
-        if (dt > 0.0) {
-          seg.t += dt;
-          seg.distance += speed * dt;
-          seg.speed += speed * dt;
-          seg.alpha += alpha * dt;
-          seg.kappa += kappa * dt;
-          seg.curvature += curvature * dt;
-          seg.load += load * dt;
-          seg.load2 += load * load * dt;
-          if (std::isfinite(temp)) {
-            seg.temp += temp * dt;
-            seg.temp_t += dt;
-          }
+    // Topic (without a leading slash) -> the bag's spelling.
+    std::map<std::string, std::string> topics;
+    {
+      rosbag::View all(bag);
+      for (const rosbag::ConnectionInfo* c : all.getConnections()) topics[withoutLeadingSlash(c->topic)] = c->topic;
+    }
+    std::map<std::string, WheelRecord> wheels;
+    for (const auto& [topic, spelled] : topics) {
+      if (topic.rfind("wheels/", 0) != 0) continue;
+      for (const std::string suffix : {"/measured/mass", "/measured/tread_depth"}) {
+        if (topic.size() > suffix.size() + 7 && topic.compare(topic.size() - suffix.size(), suffix.size(), suffix) == 0) {
+          const std::string name = topic.substr(7, topic.size() - suffix.size() - 7);
+          wheels[name].name = name;
+          wheels[name].by_mass = wheels[name].by_mass || suffix == "/measured/mass";
         }
       }
-      last_t = t;
-      const std::string& tp = m.getTopic();
-      if (ends(tp, "/load")) {
-        if (auto msg = m.instantiate<tread_wear::WheelLoad>()) load = msg->load_n;
-      } else if (ends(tp, "/slip")) {
-        if (auto msg = m.instantiate<tread_wear::WheelSlip>()) {
-          alpha = msg->slip_angle_rad;
-          kappa = msg->slip_ratio;
-          curvature = msg->path_curvature_per_m;
-        }
-      } else if (ends(tp, "/speed")) {
-        if (auto msg = m.instantiate<tread_wear::WheelSpeed>()) speed = msg->speed_mps;
-      } else if (ends(tp, "/tread_temperature")) {
-        if (auto msg = m.instantiate<tread_wear::TreadTemperature>()) temp = msg->temperature_c;
-      } else if (ends(tp, "/measured/side_force")) {
-        if (auto msg = m.instantiate<geometry_msgs::WrenchStamped>()) forces.emplace_back(t, msg->wrench.force.y);
-      } else if (ends(tp, "/measured/cycle")) {
-        if (auto msg = m.instantiate<std_msgs::Int32>()) cycles.emplace_back(t, msg->data);
-      } else if (ends(tp, "/measured/mass")) {
+    }
+    if (wheels.empty())
+      throw std::runtime_error(path + ": no topic wheels/<name>/measured/mass or wheels/<name>/measured/tread_depth "
+                                      "(std_msgs/Float64 checkpoints)");
+    const double mass_per_depth = tire.material.massPerDepth_kg_per_m();
+
+    // Pass 1: the measurements.
+    std::map<std::string, std::pair<WheelRecord*, int>> measured;  // bag topic -> (wheel, 0 checkpoint 1 cycle 2 Fy)
+    for (auto& [name, w] : wheels) {
+      const std::string prefix = "wheels/" + name + "/measured/";
+      const std::string checkpoint = prefix + (w.by_mass ? "mass" : "tread_depth");
+      measured[topics.at(checkpoint)] = {&w, 0};
+      if (topics.count(prefix + "cycle")) measured[topics.at(prefix + "cycle")] = {&w, 1};
+      if (topics.count(prefix + "side_force")) measured[topics.at(prefix + "side_force")] = {&w, 2};
+    }
+    std::vector<std::string> measured_topics;
+    for (const auto& m : measured) measured_topics.push_back(m.first);
+    for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery(measured_topics))) {
+      auto& [w, what] = measured.at(m.getTopic());
+      const double t = m.getTime().toSec();
+      if (what == 0) {
         auto msg = m.instantiate<std_msgs::Float64>();
-        if (!msg) throw std::runtime_error(tp + " is not std_msgs/Float64");
-        if (have_mass) {
-          ++segment_index;
-          const std::string where = path + ": segment " + std::to_string(segment_index) + " (ending at t = " +
-                                    std::to_string(t) + " s)";
-          if (!(seg.t > 0.0) || !(seg.distance > 0.0))
-            throw std::runtime_error(where + ": no motion with all of load, slip and speed known");
-          const double loss = mass - msg->data;
-          if (!(loss > 0.0))
-            throw std::runtime_error(where + ": the mass did not decrease (" + std::to_string(loss) + " kg)");
-          RunRecord r;
-          r.op.speed_mps = seg.speed / seg.t;
-          r.op.slip_angle_rad = seg.alpha / seg.t;
-          r.op.slip_ratio = seg.kappa / seg.t;
-          r.op.path_curvature_per_m = seg.curvature / seg.t;
-          r.op.load_n = seg.load / seg.t;
-          r.op.tread_temperature_c = seg.temp_t > 0.5 * seg.t ? seg.temp / seg.temp_t : NAN;
-          r.load_std_n = std::sqrt(std::max(0.0, seg.load2 / seg.t - r.op.load_n * r.op.load_n));
-          // Side-force samples in [previous checkpoint, this checkpoint): one stamped at a checkpoint belongs to the
-          // segment that starts there.
-          double fy_sum = 0.0;
-          int fy_n = 0;
-          std::vector<std::pair<double, double>> later;
-          for (const auto& [tf, fy] : forces) {
-            if (tf < t) {
-              fy_sum += fy;
-              ++fy_n;
-            } else {
-              later.emplace_back(tf, fy);
-            }
-          }
-          forces.swap(later);
-          r.measured_side_force_n = fy_n > 0 ? fy_sum / fy_n : NAN;
-          r.measured_wear_rate_kg_per_m = loss / seg.distance;
-          r.condition_id = "segment_" + std::to_string(segment_index);
-          // The cycle in effect before the checkpoint: a cycle message stamped at the checkpoint itself starts the
-          // next segment (messages of equal time have no defined order in a bag).
-          r.cycle_id = -1;
-          for (const auto& [tc, id] : cycles)
-            if (tc < t) r.cycle_id = id;
-          r.run_order = segment_index;
-          r.covariates = {seg.distance, seg.t, loss};
-          std::string error;
-          if (!r.op.validate(&error)) throw std::runtime_error(where + ": " + error);
-          table.runs.push_back(r);
+        if (!msg) throw std::runtime_error(m.getTopic() + " is not std_msgs/Float64");
+        w->checkpoints.emplace_back(t, w->by_mass ? msg->data : -msg->data * mass_per_depth);
+      } else if (what == 1) {
+        if (auto msg = m.instantiate<std_msgs::Int32>()) w->cycles.emplace_back(t, msg->data);
+      } else if (auto msg = m.instantiate<geometry_msgs::WrenchStamped>()) {
+        w->forces.emplace_back(t, msg->wrench.force.y);
+      }
+    }
+
+    // Pass 2: every wheel's inputs through its segmenter, on one grid that starts at the first input of any wheel.
+    std::map<std::string, std::pair<int, InputKind>> inputs;  // bag topic -> (wheel index, kind)
+    std::vector<WheelRecord*> order;
+    for (auto& [name, w] : wheels) {
+      if (w.checkpoints.size() < 2)
+        throw std::runtime_error(path + ": fewer than two " + (w.by_mass ? "mass" : "tread depth") +
+                                 " checkpoints on wheels/" + name + "/measured/: no segment to compare");
+      for (int k = 0; k < kInputKindCount; ++k) {
+        const std::string topic = "wheels/" + name + "/" + kInputNames[k];
+        if (topics.count(topic)) {
+          inputs[topics.at(topic)] = {static_cast<int>(order.size()), static_cast<InputKind>(k)};
+        } else if (static_cast<InputKind>(k) != InputKind::kTemperature) {
+          throw std::runtime_error(path + ": missing input topic " + topic + " of wheel " + name);
         }
-        if (!have_mass) forces.clear();  // samples before the first checkpoint belong to no segment
-        have_mass = true;
-        mass = msg->data;
-        seg = Segment{};
+      }
+      order.push_back(&w);
+    }
+    std::vector<std::string> input_topics;
+    for (const auto& i : inputs) input_topics.push_back(i.first);
+    rosbag::View input_view(bag, rosbag::TopicQuery(input_topics));
+    const double start_s = input_view.getBeginTime().toSec();
+    std::vector<std::unique_ptr<DriveSegmenter>> segmenters;
+    for (WheelRecord* w : order) {
+      std::vector<double> times;
+      for (const auto& c : w->checkpoints) times.push_back(c.first);
+      try {
+        segmenters.push_back(std::make_unique<DriveSegmenter>(replay, PointCellParams(), times, start_s));
+      } catch (const std::invalid_argument& e) {
+        throw std::runtime_error(path + ": wheel " + w->name + ": " + e.what());
+      }
+    }
+    for (const rosbag::MessageInstance& m : input_view) {
+      const auto& [wheel, kind] = inputs.at(m.getTopic());
+      segmenters[static_cast<std::size_t>(wheel)]->addSample(inputSample(m, kind));
+    }
+
+    for (std::size_t wi = 0; wi < order.size(); ++wi) {
+      const WheelRecord& w = *order[wi];
+      const std::vector<DriveSegment> segments = segmenters[wi]->finish();
+      for (std::size_t j = 0; j < segments.size(); ++j) {
+        const DriveSegment& seg = segments[j];
+        const std::string where = path + ": wheel " + w.name + ", segment " + std::to_string(j + 1) +
+                                  " (ending at t = " + std::to_string(seg.end_s) + " s)";
+        if (!(seg.integrated_s > 0.0) || !(seg.distance_m > 0.0))
+          throw std::runtime_error(where + ": no motion with all of load, slip and speed known (inputs older than " +
+                                   std::to_string(replay.estimator.stale_timeout_s) +
+                                   " s are not integrated)");
+        const double loss = w.checkpoints[j].second - w.checkpoints[j + 1].second;
+        if (!(loss > 0.0))
+          throw std::runtime_error(where + (w.by_mass ? ": the mass did not decrease (" : ": the tread depth did not "
+                                                                                         "decrease (mass equivalent ") +
+                                   std::to_string(loss) + " kg)");
+        RunRecord r;
+        r.op = seg.mean;
+        r.load_std_n = seg.load_std_n;
+        // Side-force samples in [start, end): one stamped at a checkpoint belongs to the segment that starts there.
+        double fy_sum = 0.0;
+        int fy_n = 0;
+        for (const auto& [tf, fy] : w.forces)
+          if (tf >= seg.start_s && tf < seg.end_s) {
+            fy_sum += fy;
+            ++fy_n;
+          }
+        r.measured_side_force_n = fy_n > 0 ? fy_sum / fy_n : NAN;
+        r.measured_wear_rate_kg_per_m = loss / seg.distance_m;
+        r.condition_id = w.name + "/segment_" + std::to_string(j + 1);
+        // The cycle in effect before the checkpoint: a cycle message stamped at the checkpoint itself starts the
+        // next segment (messages of equal time have no defined order in a bag).
+        r.cycle_id = -1;
+        for (const auto& [tc, id] : w.cycles)
+          if (tc < seg.end_s) r.cycle_id = id;
+        r.run_order = static_cast<int>(j + 1);
+        r.covariates = {seg.distance_m, seg.end_s - seg.start_s, loss};
+        r.text_covariates = {w.name};
+        r.drive_points = seg.points;
+        r.drive_time_s = seg.integrated_s;
+        r.drive_distance_m = seg.distance_m;
+        if (!r.op.validate(&error)) throw std::runtime_error(where + ": " + error);
+        table.runs.push_back(std::move(r));
       }
     }
   } catch (const rosbag::BagException& e) {
     throw std::runtime_error(path + ": " + e.what());
+  } catch (const ros::Exception& e) {
+    throw std::runtime_error(path + ": a message could not be decoded: " + e.what());
   }
-  if (table.runs.empty())
-    throw std::runtime_error(path + ": fewer than two mass checkpoints on " + topic("measured/mass") +
-                             ": no segment to compare");
   return table;
 }
 

@@ -36,6 +36,25 @@ bool checkTopic(const std::string& path, const std::map<std::string, const rosba
 
 }  // namespace
 
+InputSample inputSample(const rosbag::MessageInstance& m, InputKind kind) {
+  InputSample sample;
+  sample.t_s = m.getTime().toSec();
+  sample.kind = kind;
+  switch (kind) {
+    case InputKind::kLoad: sample.value[0] = m.instantiate<WheelLoad>()->load_n; break;
+    case InputKind::kSlip: {
+      const auto s = m.instantiate<WheelSlip>();
+      sample.value[0] = s->slip_angle_rad;
+      sample.value[1] = s->slip_ratio;
+      sample.value[2] = s->path_curvature_per_m;
+      break;
+    }
+    case InputKind::kSpeed: sample.value[0] = m.instantiate<WheelSpeed>()->speed_mps; break;
+    case InputKind::kTemperature: sample.value[0] = m.instantiate<TreadTemperature>()->temperature_c; break;
+  }
+  return sample;
+}
+
 DriveInfo readDriveBag(const std::string& path, const ReplayConfig& config, DriveReplay* replay) {
   checkBagRecords(path);  // also the error for a missing or unreadable file
   DriveInfo info;
@@ -84,24 +103,9 @@ DriveInfo readDriveBag(const std::string& path, const ReplayConfig& config, Driv
     std::vector<std::string> topics;
     for (const auto& r : routes) topics.push_back(r.first);
     rosbag::View view(bag, rosbag::TopicQuery(topics));
-    InputSample sample;
     for (const rosbag::MessageInstance& m : view) {
       const Route& r = routes.at(m.getTopic());
-      sample.t_s = m.getTime().toSec();
-      sample.kind = r.kind;
-      switch (r.kind) {
-        case InputKind::kLoad: sample.value[0] = m.instantiate<WheelLoad>()->load_n; break;
-        case InputKind::kSlip: {
-          const auto s = m.instantiate<WheelSlip>();
-          sample.value[0] = s->slip_angle_rad;
-          sample.value[1] = s->slip_ratio;
-          sample.value[2] = s->path_curvature_per_m;
-          break;
-        }
-        case InputKind::kSpeed: sample.value[0] = m.instantiate<WheelSpeed>()->speed_mps; break;
-        case InputKind::kTemperature: sample.value[0] = m.instantiate<TreadTemperature>()->temperature_c; break;
-      }
-      replay->addSample(r.wheel, sample);
+      replay->addSample(r.wheel, inputSample(m, r.kind));
     }
   } catch (const rosbag::BagException& e) {
     throw BagError(path + ": bag data unreadable (corrupt or truncated): " + e.what());

@@ -23,6 +23,7 @@
 #include "tread_wear/WheelSpeed.h"
 #include "tread_wear/cli/diagnose_cli.h"
 #include "tread_wear/ros/bag/diagnosis_bag.h"
+#include "tread_wear/io/params_io.h"
 
 namespace tread_wear {
 namespace diagnosis {
@@ -88,63 +89,96 @@ class DiagnosisBagWriter {
   rosbag::Bag bag_;
 };
 
+const TireParams& rigTire() {
+  static const TireParams tire = loadTireParams(kSource + "/config/tires/grosch_wheel.yaml");
+  return tire;
+}
+
+/// The replay's rules with inputs held for `timeout_s` (the tests' bags have sparse messages).
+ReplaySettings heldInputs(double timeout_s) {
+  ReplaySettings r;
+  r.estimator.stale_timeout_s = timeout_s;
+  r.estimator.max_step_s = 2.0 * timeout_s;
+  return r;
+}
+
 std::string errorOf(const std::string& bag_path) {
   try {
-    readDiagnosisBag(bag_path);
+    readDiagnosisBag(bag_path, rigTire(), ReplaySettings());
   } catch (const std::runtime_error& e) {
     return e.what();
   }
   return "";
 }
 
-TEST(DiagnosisBag, SegmentsBecomeRunsWithTimeWeightedMeans) {
+// The means are trapezoid means on the replay's 100 Hz grid from the first input (t = 1000 s): an input that
+// changes at a grid time t_c counts from t_c - 5 ms (the interval ending at t_c averages its two ends), and the
+// inputs written at a checkpoint are the last step of the segment that ends there, with weight 5 ms.
+TEST(DiagnosisBag, SegmentsBecomeRunsWithTrapezoidMeansOnTheReplayGrid) {
   DiagnosisBagWriter w("diagnosis_two_segments.bag");
-  // Segment 1, [1000, 1010): 2 m/s; the load alternates 73 / 77 N every second (mean 75, std 2); side force
-  // samples 50 and 52 N; 40 degC.
+  // Segment 1, (1000, 1010]: 2 m/s; the load alternates 73 / 77 N every second; side force samples 50 and 52 N;
+  // 40 degC.
   w.mass(kT0, 0.100);
   w.cycle(kT0, 1);
   w.inputs(kT0, 2.0, -0.17, 73.0, 40.0);
   for (int k = 1; k < 10; ++k) w.load(kT0 + k, k % 2 ? 77.0 : 73.0);
   w.sideForce(kT0 + 3.0, 50.0);
   w.sideForce(kT0 + 7.0, 52.0);
-  // Checkpoint at 1010: 3 mg lost over 20 m. The cycle message and the side force stamped there belong to
-  // segment 2.
+  // Checkpoint at 1010: 3 mg lost. The cycle message and the side force stamped there belong to segment 2.
   w.mass(kT0 + 10.0, 0.100 - 3e-6);
   w.cycle(kT0 + 10.0, 2);
   w.sideForce(kT0 + 10.0, 60.0);
-  // Segment 2, [1010, 1020): 1 m/s for 4 s, then 3 m/s for 6 s (mean 2.2 m/s, 22 m); load 100 N; 4 mg lost.
+  // Segment 2, (1010, 1020]: 1 m/s until 1014, then 3 m/s; load 100 N; 50 degC; 4 mg lost.
   w.inputs(kT0 + 10.0, 1.0, -0.09, 100.0, 50.0);
   w.speed(kT0 + 14.0, 3.0);
   w.sideForce(kT0 + 15.0, 62.0);
   w.mass(kT0 + 20.0, 0.100 - 7e-6);
-  const RunTable t = readDiagnosisBag(w.close());
+  const RunTable t = readDiagnosisBag(w.close(), rigTire(), heldInputs(20.0));
 
   ASSERT_EQ(t.runs.size(), 2u);
+  const double h = 0.005;  // half a grid step [s]
   const RunRecord& a = t.runs[0];
-  EXPECT_NEAR(a.op.speed_mps, 2.0, 1e-12);
-  EXPECT_NEAR(a.op.slip_angle_rad, -0.17, 1e-12);
+  // Segment 1: the step at 1010 sees segment 2's inputs (1 m/s, 100 N, 0.09 rad, 50 degC) with weight h.
+  EXPECT_NEAR(a.op.speed_mps, (2.0 * (10.0 - h) + 1.0 * h) / 10.0, 1e-12);
+  EXPECT_NEAR(a.op.slip_angle_rad, (0.17 * (10.0 - h) + 0.09 * h) / 10.0, 1e-12);  // mean |alpha|
   EXPECT_NEAR(a.op.slip_ratio, 0.01, 1e-12);
   EXPECT_NEAR(a.op.path_curvature_per_m, 1.0 / 0.06, 1e-9);
-  EXPECT_NEAR(a.op.load_n, 75.0, 1e-9);
-  EXPECT_NEAR(a.load_std_n, 2.0, 1e-6);
-  EXPECT_NEAR(a.op.tread_temperature_c, 40.0, 1e-12);
+  // Load: 73 N on (1000, 1001 - h], then 77 and 73 in turn for 1 s each (77 on odd seconds), 77 N up to
+  // 1010 - h, 100 N for h.
+  const double load_sum = 73.0 * (1.0 - h) + 5 * 77.0 + 4 * 73.0 + 100.0 * h;
+  const double load2_sum = 73.0 * 73.0 * (1.0 - h) + 5 * 77.0 * 77.0 + 4 * 73.0 * 73.0 + 1e4 * h;
+  EXPECT_NEAR(a.op.load_n, load_sum / 10.0, 1e-9);
+  EXPECT_NEAR(a.load_std_n, std::sqrt(load2_sum / 10.0 - std::pow(load_sum / 10.0, 2)), 1e-6);
+  EXPECT_NEAR(a.op.tread_temperature_c, (40.0 * (10.0 - h) + 50.0 * h) / 10.0, 1e-12);
   EXPECT_NEAR(a.measured_side_force_n, 51.0, 1e-12);
-  EXPECT_NEAR(a.measured_wear_rate_kg_per_m, 3e-6 / 20.0, 1e-15);
+  EXPECT_NEAR(a.drive_distance_m, 2.0 * (10.0 - h) + 1.0 * h, 1e-9);
+  EXPECT_NEAR(a.drive_time_s, 10.0, 1e-9);
+  EXPECT_NEAR(a.measured_wear_rate_kg_per_m, 3e-6 / a.drive_distance_m, 1e-18);
   EXPECT_EQ(a.cycle_id, 1);
   EXPECT_EQ(a.run_order, 1);
 
   const RunRecord& b = t.runs[1];
-  EXPECT_NEAR(b.op.speed_mps, 2.2, 1e-12);
+  const double distance_b = 1.0 * (4.0 - h) + 3.0 * (6.0 + h);
+  EXPECT_NEAR(b.op.speed_mps, distance_b / 10.0, 1e-12);
   EXPECT_NEAR(b.op.load_n, 100.0, 1e-9);
-  EXPECT_NEAR(b.load_std_n, 0.0, 1e-6);
+  EXPECT_NEAR(b.load_std_n, 0.0, 1e-4);
   EXPECT_NEAR(b.measured_side_force_n, 61.0, 1e-12);
-  EXPECT_NEAR(b.measured_wear_rate_kg_per_m, 4e-6 / 22.0, 1e-15);
+  EXPECT_NEAR(b.drive_distance_m, distance_b, 1e-9);
+  EXPECT_NEAR(b.measured_wear_rate_kg_per_m, 4e-6 / distance_b, 1e-18);
   EXPECT_EQ(b.cycle_id, 2);
   EXPECT_EQ(b.run_order, 2);
   ASSERT_EQ(t.covariate_names, (std::vector<std::string>{"distance_m", "duration_s", "mass_loss_kg"}));
-  EXPECT_NEAR(b.covariates[0], 22.0, 1e-9);
+  EXPECT_NEAR(b.covariates[0], distance_b, 1e-9);
   EXPECT_NEAR(b.covariates[1], 10.0, 1e-9);
   EXPECT_NEAR(b.covariates[2], 4e-6, 1e-15);
+  EXPECT_EQ(b.text_covariates, std::vector<std::string>{"fl"});
+
+  // The points keep the integrals: their distance weights sum to the integrated distance (no zero load here), and
+  // the points of segment 2 are its two speeds (one cell each: the other inputs are constant).
+  double d = 0.0;
+  for (const WeightedOperatingPoint& p : b.drive_points) d += p.distance_m;
+  EXPECT_NEAR(d, distance_b, 1e-9);
+  ASSERT_EQ(b.drive_points.size(), 2u);
 }
 
 TEST(DiagnosisBag, MalformedBagsNameTheProblem) {
@@ -199,7 +233,7 @@ TEST(DiagnosisBag, MalformedBagsNameTheProblem) {
   no_load.mass(kT0, 0.1);
   no_load.speed(kT0, 2.0);
   no_load.mass(kT0 + 10.0, 0.1 - 1e-6);
-  EXPECT_NE(errorOf(no_load.close()).find("no motion with all of load, slip and speed known"), std::string::npos);
+  EXPECT_NE(errorOf(no_load.close()).find("missing input topic wheels/fl/load of wheel fl"), std::string::npos);
 }
 
 // examples/diagnosis/README.md: the example run table written as a bag by make_bag.py (each run a steady segment,
@@ -213,29 +247,32 @@ TEST(DiagnosisBag, DocumentedExampleBagGivesBackTheRunTable) {
                               "/examples/diagnosis/make_bag.py " + runs_path + " " + bag_path;
   ASSERT_EQ(std::system(command.c_str()), 0) << command;
   const RunTable from_csv = readRunTable(runs_path);
-  const RunTable from_bag = readDiagnosisBag(bag_path);
+  // make_bag.py writes a sample every tenth of a run (45-90 s): hold inputs for 100 s.
+  const RunTable from_bag = readDiagnosisBag(bag_path, rigTire(), heldInputs(100.0));
   ASSERT_EQ(from_bag.runs.size(), from_csv.runs.size());
   for (std::size_t i = 0; i < from_csv.runs.size(); ++i) {
     const RunRecord& c = from_csv.runs[i];
     const RunRecord& b = from_bag.runs[i];
-    EXPECT_NEAR(b.op.speed_mps, c.op.speed_mps, 1e-12) << i;
-    EXPECT_NEAR(b.op.slip_angle_rad, c.op.slip_angle_rad, 1e-12) << i;
-    EXPECT_NEAR(b.op.path_curvature_per_m, c.op.path_curvature_per_m, 1e-9) << i;
-    EXPECT_NEAR(b.op.load_n, c.op.load_n, 1e-9) << i;
-    EXPECT_NEAR(b.load_std_n, 2.0, 1e-6) << i;
-    EXPECT_NEAR(b.op.tread_temperature_c, c.op.tread_temperature_c, 1e-9) << i;
+    // The bag's means differ from the table's only by the trapezoid's half step (5 ms) at each input change and
+    // at the checkpoint, where the next run's inputs enter: at most 5 ms x (change) / (450 s or more).
+    EXPECT_NEAR(b.op.speed_mps, c.op.speed_mps, 1e-4) << i;
+    EXPECT_NEAR(b.op.slip_angle_rad, std::abs(c.op.slip_angle_rad), 1e-5) << i;
+    EXPECT_NEAR(b.op.path_curvature_per_m, std::abs(c.op.path_curvature_per_m), 1e-3) << i;
+    EXPECT_NEAR(b.op.load_n, c.op.load_n, 1e-3) << i;
+    EXPECT_NEAR(b.load_std_n, 2.0, 0.01) << i;
+    EXPECT_NEAR(b.op.tread_temperature_c, c.op.tread_temperature_c, 1e-3) << i;
     EXPECT_NEAR(b.measured_side_force_n, c.measured_side_force_n, 1e-9) << i;
-    EXPECT_NEAR(b.measured_wear_rate_kg_per_m / c.measured_wear_rate_kg_per_m, 1.0, 1e-6) << i;
+    EXPECT_NEAR(b.measured_wear_rate_kg_per_m / c.measured_wear_rate_kg_per_m, 1.0, 1e-4) << i;
     EXPECT_EQ(b.cycle_id, c.cycle_id) << i;
   }
 
   auto diagnose = [](const std::string& input_flag, const std::string& input, const std::string& report) {
     const std::string params = kSource + "/config/tires/grosch_wheel.yaml";
     const std::string dir = ::testing::TempDir() + report;
-    const char* argv[] = {"tread_wear_diagnose", "--params", params.c_str(), input_flag.c_str(), input.c_str(),
-                          "--report", dir.c_str(), "--no-plots"};
+    const char* argv[] = {"tread_wear_diagnose", "--params",  params.c_str(),     input_flag.c_str(), input.c_str(),
+                          "--report",            dir.c_str(), "--no-plots",       "--input-timeout-s", "100"};
     std::ostringstream out, err;
-    EXPECT_EQ(runDiagnoseCli(8, argv, readDiagnosisBag, "", out, err), 0) << err.str();
+    EXPECT_EQ(runDiagnoseCli(10, argv, readDiagnosisBag, "", out, err), 0) << err.str();
     return out.str();
   };
   const std::string verdict = "explanation: surface_polishing\n";
