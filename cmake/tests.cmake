@@ -33,6 +33,8 @@ tread_wear_add_gtest(test_drive_scenarios ${PROJECT_SOURCE_DIR}/test/ros/bag/tes
                      ${PROJECT_NAME}_ros_bag)
 tread_wear_add_gtest(test_vehicle_inputs_bag ${PROJECT_SOURCE_DIR}/test/ros/bag/test_vehicle_inputs_bag.cpp
                      ${PROJECT_NAME}_ros_bag)
+tread_wear_add_gtest(test_drive_integration ${PROJECT_SOURCE_DIR}/test/ros/bag/test_drive_integration.cpp
+                     ${PROJECT_NAME}_ros_bag ${PROJECT_NAME}_cli)
 tread_wear_add_gtest(test_diagnosis_bag ${PROJECT_SOURCE_DIR}/test/ros/bag/test_diagnosis_bag.cpp
                      ${PROJECT_NAME}_ros_bag ${PROJECT_NAME}_cli)
 target_compile_definitions(test_diagnosis_bag PRIVATE

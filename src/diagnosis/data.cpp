@@ -103,7 +103,8 @@ DiagnosisData buildDiagnosisData(const RunTable& table) {
         throw DiagnosisError(where + ": a drive segment without integrated distance or time");
     }
     all_temperature = all_temperature && std::isfinite(run.tread_temperature_c);
-    if (std::isfinite(run.load_std_n) && run.load_std_n > 0.0) d.has_load_std = true;
+    // A drive segment's load spread is resolved in its points: Eq 23 over it would count it twice.
+    if (std::isfinite(run.load_std_n) && run.load_std_n > 0.0 && !run.isDrive()) d.has_load_std = true;
     if (rec.op.path_curvature_per_m != 0.0) d.has_turn_slip = true;
     d.runs.push_back(run);
   }

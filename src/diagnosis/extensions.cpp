@@ -161,7 +161,61 @@ bool termApplicable(Term term, const DiagnosisData& data, std::string* why_not) 
   }
 }
 
+/// The drive segments' cells at the two resolutions (file comment of extensions.h) and their evaluations at the
+/// base brush parameters, per (preset, orientation).
+struct DriveCells {
+  struct Share {
+    int cell;
+    double time_s, distance_m;
+  };
+  std::vector<DiagnosisRun> fine, coarse;  ///< centroids (temperature in tread_temperature_c)
+  std::vector<int> coarse_of_fine;
+  std::vector<std::vector<Share>> fine_shares, coarse_shares;  ///< per run; empty for a steady run
+  std::map<std::pair<int, int>, std::vector<ExtendedModel::RawResult>> fine_base, coarse_base;
+};
+
 namespace {
+
+/// Resolution of the coarse drive cells: about 4 times the default widths (point_cells.h).
+const PointCellParams kCoarseDriveCells{{100.0, 0.08}, {1e-3, 0.15}, {1e-3, 0.15}, {1.0, 0.3}, {1e-3, 0.3}, 3.0};
+
+DiagnosisRun cellRun(const WeightedOperatingPoint& p) {
+  DiagnosisRun c;
+  c.op = p.op;
+  c.op.tread_temperature_c = kNaN;
+  c.tread_temperature_c = p.op.tread_temperature_c;
+  return c;
+}
+
+/// Fine cells from the runs' points, coarse cells from the fine cells' centroids (with their weights, so both
+/// keep the points' integrals and first moments), and each run's shares of both.
+std::shared_ptr<DriveCells> buildDriveCells(const DiagnosisData& data) {
+  auto cells = std::make_shared<DriveCells>();
+  PointCells fine, coarse(kCoarseDriveCells);
+  cells->fine_shares.resize(data.runs.size());
+  cells->coarse_shares.resize(data.runs.size());
+  for (std::size_t i = 0; i < data.runs.size(); ++i)
+    for (const WeightedOperatingPoint& p : data.runs[i].drive_points) {
+      const int c = fine.add(p);
+      if (c >= 0) cells->fine_shares[i].push_back({c, p.time_s, p.distance_m});
+    }
+  for (const WeightedOperatingPoint& p : fine.points()) {
+    cells->fine.push_back(cellRun(p));
+    cells->coarse_of_fine.push_back(coarse.add(p));
+  }
+  for (const WeightedOperatingPoint& p : coarse.points()) cells->coarse.push_back(cellRun(p));
+  for (std::size_t i = 0; i < data.runs.size(); ++i) {
+    std::map<int, DriveCells::Share> merged;
+    for (const DriveCells::Share& s : cells->fine_shares[i]) {
+      const int c = cells->coarse_of_fine[static_cast<std::size_t>(s.cell)];
+      DriveCells::Share& m = merged.emplace(c, DriveCells::Share{c, 0.0, 0.0}).first->second;
+      m.time_s += s.time_s;
+      m.distance_m += s.distance_m;
+    }
+    for (const auto& [c, share] : merged) cells->coarse_shares[i].push_back(share);
+  }
+  return cells;
+}
 
 /// Steady runs with this key share one brush evaluation (repeats of a condition).
 std::array<double, 6> steadyKey(const DiagnosisRun& r) {
@@ -192,27 +246,20 @@ ExtendedModel::ExtendedModel(const TireParams& base, const ExtendedModelOptions&
   brush_options_ = presetOptions(options_.preset, orientation);
 
   std::set<std::array<double, 6>> steady;
-  PointCells cells;
-  drive_shares_.resize(data_.runs.size());
-  for (std::size_t i = 0; i < data_.runs.size(); ++i) {
-    const DiagnosisRun& r = data_.runs[i];
-    if (!r.isDrive()) {
-      steady.insert(steadyKey(r));
-      continue;
-    }
-    for (const WeightedOperatingPoint& p : r.drive_points) {
-      const int cell = cells.add(p);
-      if (cell >= 0) drive_shares_[i].push_back({cell, p.time_s, p.distance_m});
-    }
+  bool any_drive = false;
+  for (const DiagnosisRun& r : data_.runs) {
+    if (r.isDrive()) any_drive = true;
+    else steady.insert(steadyKey(r));
   }
   distinct_steady_ = steady.size();
-  for (const WeightedOperatingPoint& p : cells.points()) {
-    DiagnosisRun c;
-    c.op = p.op;
-    c.op.tread_temperature_c = std::numeric_limits<double>::quiet_NaN();
-    c.tread_temperature_c = p.op.tread_temperature_c;
-    drive_cells_.push_back(c);
+  if (any_drive) {
+    if (!data_.drive_cells) data_.drive_cells = buildDriveCells(data_);
+    drive_ = data_.drive_cells;
   }
+}
+
+std::size_t ExtendedModel::evaluationPoints() const {
+  return distinct_steady_ + (drive_ ? drive_->coarse.size() : 0);
 }
 
 int ExtendedModel::parameterOffset(Term term) const { return offsets_[static_cast<int>(term)]; }
@@ -323,46 +370,55 @@ bool ExtendedModel::predict(const std::vector<double>& values, Prediction* out) 
   const double q = has(Term::kPressureFriction) ? value(Term::kPressureFriction, 0) : base_.friction.q;
   const double load_std_scale = has(Term::kLoadFluctuation) ? value(Term::kLoadFluctuation, 0) : 0.0;
   const std::vector<double> key = {mu_scale, k_t, compliance, q, load_std_scale};
+  const bool at_base = mu_scale == 1.0 && k_t == 0.0 && compliance == 0.0 && q == base_.friction.q;
   const int n = static_cast<int>(data_.runs.size());
-  const int n_cells = static_cast<int>(drive_cells_.size());
+  const std::vector<DiagnosisRun> no_cells;
+  const std::vector<DiagnosisRun>& coarse = drive_ ? drive_->coarse : no_cells;
+  const int n_coarse = static_cast<int>(coarse.size());
 
-  // Raw brush results of the runs (0..n-1; unused for drive segments) and of the drive cells (n..n+cells-1).
+  // The brush model at these values for the runs in `points` (run j of `points`, or steady run j of the data).
+  TireParams p = base_;
+  p.friction.mu_0 *= mu_scale;
+  p.friction.mu_m *= mu_scale;
+  p.friction.q = q;
+  p.wear.temperature_enabled = false;  // Eq 25 is applied below, after the brush evaluation
+  auto evaluate = [&](const std::vector<const DiagnosisRun*>& points, std::vector<RawResult>* raw) {
+    if (k_t != 0.0) {
+      const double t_ref = termInfo(Term::kThermalFriction).temperature_ref_c;
+      for (std::size_t j = 0; j < points.size(); ++j) {
+        if (points[j] == nullptr) continue;
+        const double factor = 1.0 - k_t * (points[j]->tread_temperature_c - t_ref);
+        if (!(factor > 0.05)) return false;  // friction would vanish: outside the term's validity
+        TireParams pj = p;
+        pj.friction.mu_0 *= factor;
+        pj.friction.mu_m *= factor;
+        (*raw)[j] = evaluateRun(BrushWearModel(pj, brush_options_), *points[j], compliance, load_std_scale);
+      }
+      return true;
+    }
+    const BrushWearModel model(p, brush_options_);
+    // Repeats of a condition share one evaluation.
+    std::map<std::array<double, 6>, RawResult> seen;
+    for (std::size_t j = 0; j < points.size(); ++j) {
+      if (points[j] == nullptr) continue;
+      auto it = seen.find(steadyKey(*points[j]));
+      if (it == seen.end())
+        it = seen.emplace(steadyKey(*points[j]), evaluateRun(model, *points[j], compliance, load_std_scale)).first;
+      (*raw)[j] = it->second;
+    }
+    return true;
+  };
+
+  // Raw brush results of the steady runs (0..n-1; unused for drive segments) and the coarse cells (n..).
   auto found = cache_.find(key);
   if (found == cache_.end()) {
-    std::vector<RawResult> raw(n + n_cells);
-    auto point = [&](int j) -> const DiagnosisRun& { return j < n ? data_.runs[j] : drive_cells_[j - n]; };
+    std::vector<const DiagnosisRun*> points(n + n_coarse, nullptr);
+    for (int i = 0; i < n; ++i)
+      if (!data_.runs[i].isDrive()) points[i] = &data_.runs[i];
+    for (int c = 0; c < n_coarse; ++c) points[n + c] = &coarse[c];
+    std::vector<RawResult> raw(points.size());
     try {
-      TireParams p = base_;
-      p.friction.mu_0 *= mu_scale;
-      p.friction.mu_m *= mu_scale;
-      p.friction.q = q;
-      p.wear.temperature_enabled = false;  // Eq 25 is applied below, after the brush evaluation
-      if (k_t != 0.0) {
-        const double t_ref = termInfo(Term::kThermalFriction).temperature_ref_c;
-        for (int j = 0; j < n + n_cells; ++j) {
-          if (j < n && data_.runs[j].isDrive()) continue;
-          const double factor = 1.0 - k_t * (point(j).tread_temperature_c - t_ref);
-          if (!(factor > 0.05)) return false;  // friction would vanish: outside the term's validity
-          TireParams pj = p;
-          pj.friction.mu_0 *= factor;
-          pj.friction.mu_m *= factor;
-          const BrushWearModel model(pj, brush_options_);
-          raw[j] = evaluateRun(model, point(j), compliance, load_std_scale);
-        }
-      } else {
-        const BrushWearModel model(p, brush_options_);
-        // Repeats of a condition share one evaluation.
-        std::map<std::array<double, 6>, RawResult> seen;
-        for (int i = 0; i < n; ++i) {
-          if (data_.runs[i].isDrive()) continue;
-          auto it = seen.find(steadyKey(data_.runs[i]));
-          if (it == seen.end())
-            it = seen.emplace(steadyKey(data_.runs[i]), evaluateRun(model, data_.runs[i], compliance, load_std_scale))
-                     .first;
-          raw[i] = it->second;
-        }
-        for (int c = 0; c < n_cells; ++c) raw[n + c] = evaluateRun(model, drive_cells_[c], compliance, load_std_scale);
-      }
+      if (!evaluate(points, &raw)) return false;
     } catch (const std::exception&) {
       return false;
     }
@@ -371,6 +427,48 @@ bool ExtendedModel::predict(const std::vector<double>& values, Prediction* out) 
     found = cache_.emplace(key, std::move(raw)).first;
   }
   const std::vector<RawResult>& raw = found->second;
+
+  // The drive cells' results: the coarse ones as they are, or the fine ones at the base values carried to these
+  // values by the coarse ones' change (extensions.h).
+  std::vector<RawResult> fine;
+  if (drive_ && !options_.coarse_drive_cells) {
+    const std::pair<int, int> preset_key(static_cast<int>(options_.preset), static_cast<int>(brush_options_.orientation));
+    auto base_results = [&](const std::vector<DiagnosisRun>& cells,
+                            std::map<std::pair<int, int>, std::vector<RawResult>>* store) -> const std::vector<RawResult>& {
+      auto it = store->find(preset_key);
+      if (it == store->end()) {
+        std::vector<RawResult> r(cells.size());
+        const BrushWearModel model([&] {
+          TireParams b = base_;
+          b.wear.temperature_enabled = false;
+          return b;
+        }(), brush_options_);
+        for (std::size_t c = 0; c < cells.size(); ++c) r[c] = evaluateRun(model, cells[c], 0.0, 0.0);
+        it = store->emplace(preset_key, std::move(r)).first;
+      }
+      return it->second;
+    };
+    try {
+      fine = base_results(drive_->fine, &drive_->fine_base);
+      if (!at_base) {
+        const std::vector<RawResult>& coarse_base = base_results(coarse, &drive_->coarse_base);
+        for (std::size_t c = 0; c < fine.size(); ++c) {
+          const int m = drive_->coarse_of_fine[c];
+          const RawResult& now = raw[n + m];
+          const RawResult& then = coarse_base[m];
+          fine[c].fy_n += now.fy_n - then.fy_n;
+          fine[c].wear_w3_kg_per_m = then.wear_w3_kg_per_m > 0.0
+                                         ? fine[c].wear_w3_kg_per_m * now.wear_w3_kg_per_m / then.wear_w3_kg_per_m
+                                         : now.wear_w3_kg_per_m;
+        }
+      }
+    } catch (const std::exception&) {
+      return false;
+    }
+  }
+  const bool use_fine = !fine.empty();
+  const std::vector<DiagnosisRun>& cells = use_fine ? drive_->fine : coarse;
+  auto cell_result = [&](int c) -> const RawResult& { return use_fine ? fine[c] : raw[n + c]; };
   // The w3 factor of Eq 25 (or the thermal_wear term) at a tread temperature.
   auto thermal_w3 = [&](double temperature_c) {
     if (has(Term::kThermalWear)) {
@@ -391,10 +489,10 @@ bool ExtendedModel::predict(const std::vector<double>& values, Prediction* out) 
     double wear = 0.0;
     if (r.isDrive()) {
       double fy_sum = 0.0, wear_sum = 0.0;
-      for (const CellShare& s : drive_shares_[i]) {
-        const RawResult& c = raw[n + s.cell];
+      for (const DriveCells::Share& s : use_fine ? drive_->fine_shares[i] : drive_->coarse_shares[i]) {
+        const RawResult& c = cell_result(s.cell);
         fy_sum += c.fy_n * s.time_s;
-        wear_sum += (w3_factor * thermal_w3(drive_cells_[s.cell].tread_temperature_c) * c.wear_w3_kg_per_m +
+        wear_sum += (w3_factor * thermal_w3(cells[s.cell].tread_temperature_c) * c.wear_w3_kg_per_m +
                      c.wear_w4_kg_per_m) *
                     s.distance_m;
       }

@@ -25,8 +25,10 @@ NumericsCheck checkNumerics(const TireParams& base, const DiagnosisData& data, c
   c.limit = limit;
   if (options.preset == Preset::kReference) return c;
   c.checked = true;
-  const ExtendedModel coarse(base, options, terms, data);
-  ExtendedModelOptions finer_options = options;
+  ExtendedModelOptions preset_options = options;
+  preset_options.coarse_drive_cells = true;  // drive segments: the presets' difference on the coarse cells
+  const ExtendedModel coarse(base, preset_options, terms, data);
+  ExtendedModelOptions finer_options = preset_options;
   finer_options.preset = c.finer;
   const ExtendedModel finer(base, finer_options, terms, data);
   Prediction at, ref;

@@ -16,6 +16,7 @@
 /// measurement (mass_loss_kg) are left out.
 
 #include <limits>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -65,8 +66,13 @@ struct Covariate {
   std::vector<std::string> levels;  ///< categorical: label of each group index
 };
 
+struct DriveCells;
+
 struct DiagnosisData {
   std::vector<DiagnosisRun> runs;
+  /// The drive segments' cells and their base evaluations (extensions.h), built by the first model that needs
+  /// them and shared by every model of these data; null until then or without drive segments.
+  mutable std::shared_ptr<DriveCells> drive_cells;
   std::vector<Covariate> covariates;
   bool has_temperature = false;        ///< every run has a tread temperature
   bool has_sequence = false;           ///< every run has a cumulative sliding distance

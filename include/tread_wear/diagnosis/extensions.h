@@ -25,9 +25,16 @@
 /// is exact for polynomials up to degree 5 and smooth in s_load, which a least-squares Jacobian needs.
 /// Lateral compliance solves alpha_eff = alpha + c_lat Fy(alpha_eff) by secant iteration (|dFy/dalpha| c_lat < 1
 /// for any plausible compliance, so the root is unique).
-/// Drive segments (DiagnosisRun::isDrive) are predicted from their integrated operating points: the points of
-/// all segments share one set of cells (point_cells.h), the model is evaluated once per cell, and a segment's
-/// W_r is the distance-weighted sum over its cells (Fy the time-weighted one). Terms act per cell where they
+/// Drive segments (DiagnosisRun::isDrive) are predicted from their integrated operating points, binned into cells
+/// (point_cells.h) at two resolutions that all segments share: fine cells (the default PointCellParams, within
+/// 0.25% of the replay's wear per segment, docs/diagnosis.md) and coarse ones (kCoarseDriveCells, widths about 4
+/// times larger). The fine cells are evaluated once per preset at the base brush parameters (mu_scale 1, no
+/// friction, compliance or spread term; cached with the data: DiagnosisData::drive_cells); a fit re-simulates only
+/// the coarse cells and carries the change to the fine cells it contains:
+///   Fy = Fy_fine,base + (Fy_coarse - Fy_coarse,base),  W_r,w3 = W_r,w3,fine,base x W_r,w3,coarse / W_r,w3,coarse,base,
+/// W_r,w4 (load and speed only) from the fine cell. A change of the parameters moves W_r smoothly across a coarse
+/// cell, so the ratio carries it to second order where W_r itself (steep in slip) would not. A segment's W_r is
+/// the distance-weighted sum over its fine cells (Fy the time-weighted one). Terms act per cell where they
 /// depend on the point (the thermal terms on the cell's temperature, the friction and compliance terms through the
 /// brush evaluation) and per segment otherwise (surface_polishing, the sensor terms, user terms on the segment's
 /// means and covariates).
@@ -64,6 +71,7 @@ enum class Term {
 
 struct UserMechanism;
 class MechanismEvaluator;
+struct DriveCells;
 
 struct TermParameterSpec {
   std::string name;   ///< e.g. "compliance_rad_per_n"
@@ -125,6 +133,9 @@ struct Prediction {
 struct ExtendedModelOptions {
   Preset preset = Preset::kFast;                                 ///< resolution of the brush model
   TurnSlipOrientation orientation = TurnSlipOrientation::kLiteral;  ///< base orientation
+  /// Drive segments on the coarse cells only (the solver-error check: the difference of two presets varies
+  /// little across a coarse cell); otherwise fine cells with the coarse correction (see the file comment).
+  bool coarse_drive_cells = false;
 };
 
 /// The base model plus a set of terms, with parameters laid out as [w3_scale, mu_scale, term parameters...].
@@ -145,29 +156,25 @@ class ExtendedModel {
   int parameterOffset(Term term) const;
   /// Predicts all runs. Returns false when the brush model cannot be evaluated at these values.
   bool predict(const std::vector<double>& values, Prediction* out) const;
-  /// Operating points the brush model is evaluated at per set of brush-relevant parameter values: the distinct
-  /// steady conditions plus the cells of all drive segments together (point_cells.h).
-  std::size_t evaluationPoints() const { return distinct_steady_ + drive_cells_.size(); }
+  /// Operating points the brush model is evaluated at per new set of brush-relevant parameter values: the distinct
+  /// steady conditions plus the coarse cells of all drive segments together (drive cells, below).
+  std::size_t evaluationPoints() const;
   /// Brush evaluations so far: only a change of a brush-relevant parameter (mu_scale, a friction, compliance or
   /// load-spread term) re-simulates; w3_scale, thermal_wear, surface_polishing, the sensor terms and user terms
-  /// act on cached results.
+  /// act on cached results. The drive cells' one evaluation at the base parameters is not counted here.
   long brushEvaluations() const { return brush_evaluations_; }
 
- private:
+  /// Brush model results at one point: Fy and W_r split into its w3 and w4 parts (Eqs 19-20).
   struct RawResult {
     double fy_n;
     double wear_w3_kg_per_m;  ///< w3 part of W_r (at the file's w3)
     double wear_w4_kg_per_m;  ///< w4 part of W_r
   };
+
+ private:
   bool has(Term t) const { return parameterOffset(t) >= 0; }
   RawResult evaluateRun(const BrushWearModel& model, const DiagnosisRun& run, double compliance,
                         double load_std_scale) const;
-
-  /// The drive segments' contributions to their cells: run, cell, time [s], distance [m].
-  struct CellShare {
-    int cell;
-    double time_s, distance_m;
-  };
 
   TireParams base_;
   ExtendedModelOptions options_;
@@ -179,11 +186,11 @@ class ExtendedModel {
   const DiagnosisData& data_;
   BrushOptions brush_options_;
   std::size_t distinct_steady_ = 0;  ///< distinct conditions of the steady runs
-  std::vector<DiagnosisRun> drive_cells_;  ///< centroids of the drive segments' cells (temperature in tread_temperature_c)
-  std::vector<std::vector<CellShare>> drive_shares_;  ///< per run; empty for a steady run
+  std::shared_ptr<DriveCells> drive_;  ///< the data's drive cells (null without drive segments)
   mutable long brush_evaluations_ = 0;
-  /// Brush results for the last few values of the brush-relevant parameters (the post-processing terms,
-  /// e.g. thermal_wear or the sensor terms, then reuse them: their Jacobian columns cost no brush solve).
+  /// Brush results for the last few values of the brush-relevant parameters: the steady runs, then the coarse
+  /// drive cells (the post-processing terms, e.g. thermal_wear or the sensor terms, reuse them: their Jacobian
+  /// columns cost no brush solve).
   mutable std::map<std::vector<double>, std::vector<RawResult>> cache_;
 };
 

@@ -27,7 +27,7 @@ std::string withoutLeadingSlash(const std::string& topic) {
 struct WheelRecord {
   std::string name;
   bool by_mass = false;                            ///< masses, else tread depths
-  std::vector<std::pair<double, double>> checkpoints;  ///< (time [s], mass [kg] or -depth x mass per depth [kg])
+  std::vector<std::pair<double, double>> checkpoints;  ///< (time [s], mass [kg] or depth x mass per depth [kg])
   std::vector<std::pair<double, int>> cycles;      ///< (time, id)
   std::vector<std::pair<double, double>> forces;   ///< (time, Fy [N])
 };
@@ -89,7 +89,7 @@ RunTable readDiagnosisBag(const std::string& path, const TireParams& tire, const
       if (what == 0) {
         auto msg = m.instantiate<std_msgs::Float64>();
         if (!msg) throw std::runtime_error(m.getTopic() + " is not std_msgs/Float64");
-        w->checkpoints.emplace_back(t, w->by_mass ? msg->data : -msg->data * mass_per_depth);
+        w->checkpoints.emplace_back(t, w->by_mass ? msg->data : msg->data * mass_per_depth);
       } else if (what == 1) {
         if (auto msg = m.instantiate<std_msgs::Int32>()) w->cycles.emplace_back(t, msg->data);
       } else if (auto msg = m.instantiate<geometry_msgs::WrenchStamped>()) {
