@@ -18,3 +18,8 @@ if(benchmark_FOUND)
 else()
   message(STATUS "Google Benchmark not found: ${PROJECT_NAME}_bench and ${PROJECT_NAME}_accuracy are not built")
 endif()
+# A month of driving as one bag, for timing the diagnosis of drives (docs/diagnosis.md, "Drives between
+# measurements"); reads the passenger car's files from this source tree.
+add_executable(${PROJECT_NAME}_month_bench bench/month_of_driving.cpp)
+target_link_libraries(${PROJECT_NAME}_month_bench ${PROJECT_NAME}_ros_bag ${PROJECT_NAME}_cli)
+target_compile_definitions(${PROJECT_NAME}_month_bench PRIVATE TREAD_WEAR_SHARE_DIR="${PROJECT_SOURCE_DIR}")
