@@ -9,6 +9,9 @@
 namespace tread_wear {
 namespace {
 
+/// asinh of any double is below 711, and a tread temperature below 1e3 degC: indices stay within 32 bits.
+constexpr double kMinCellWidth = 1e-6;
+
 std::int32_t bin(double x, const CellAxis& axis) {
   return static_cast<std::int32_t>(std::floor(std::asinh(x / axis.scale) / axis.width));
 }
@@ -21,8 +24,8 @@ std::array<double, 6> coordinates(const OperatingPoint& op) {
 bool checkAxis(std::string* error, const std::string& name, const CellAxis& axis) {
   if (!(axis.scale > 0.0) || !std::isfinite(axis.scale))
     return failValidation(error, name + ".scale", axis.scale, "finite and > 0");
-  if (!(axis.width > 0.0) || !std::isfinite(axis.width))
-    return failValidation(error, name + ".width", axis.width, "finite and > 0");
+  if (!(axis.width >= kMinCellWidth) || !std::isfinite(axis.width))
+    return failValidation(error, name + ".width", axis.width, "finite and >= 1e-6 (bin indices are 32-bit)");
   return true;
 }
 
@@ -33,8 +36,8 @@ bool PointCellParams::validate(std::string* error) const {
       !checkAxis(error, "slip_ratio", slip_ratio) || !checkAxis(error, "speed", speed) ||
       !checkAxis(error, "path_curvature", path_curvature))
     return false;
-  if (!(temperature_bin_c > 0.0) || !std::isfinite(temperature_bin_c))
-    return failValidation(error, "temperature_bin_c", temperature_bin_c, "finite and > 0");
+  if (!(temperature_bin_c >= kMinCellWidth) || !std::isfinite(temperature_bin_c))
+    return failValidation(error, "temperature_bin_c", temperature_bin_c, "finite and >= 1e-6 (bin indices are 32-bit)");
   return true;
 }
 

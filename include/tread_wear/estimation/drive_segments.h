@@ -50,7 +50,8 @@ class DriveSegmenter {
                  double start_s);
   /// Samples must come in non-decreasing time, none before start_s. @throw std::invalid_argument otherwise
   void addSample(const InputSample& sample);
-  /// Runs the steps up to the last checkpoint and returns the segments (one fewer than the checkpoints).
+  /// Runs the steps up to the last checkpoint and returns the segments (one fewer than the checkpoints). Inputs are
+  /// held after the last sample until they are stale, as in the node (DriveReplay stops at its last sample).
   std::vector<DriveSegment> finish();
 
  private:

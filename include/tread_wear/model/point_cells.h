@@ -27,7 +27,7 @@ namespace tread_wear {
 /// Bin of one coordinate: u = asinh(x / scale) / width.
 struct CellAxis {
   double scale;  ///< below it the bins are linear [unit of the coordinate], > 0
-  double width;  ///< bin width in asinh units: the relative width beyond the scale [-], > 0
+  double width;  ///< bin width in asinh units: the relative width beyond the scale [-], >= 1e-6
 };
 
 /// Resolution of the cells. Defaults: 2% in load, 4% in |alpha| and |kappa| above 1e-3, 4% in speed above
@@ -38,9 +38,9 @@ struct PointCellParams {
   CellAxis slip_ratio{1e-3, 0.04};       ///< kappa [-]
   CellAxis speed{1.0, 0.04};             ///< V [m/s]
   CellAxis path_curvature{1e-3, 0.1};    ///< 1/R [1/m]
-  double temperature_bin_c = 1.0;        ///< tread temperature bin [degC], > 0
+  double temperature_bin_c = 1.0;        ///< tread temperature bin [degC], >= 1e-6
 
-  /// Names the first field that is not finite or not > 0.
+  /// Names the first field that is not finite and > 0 (scales) or >= 1e-6 (widths, temperature bin).
   bool validate(std::string* error) const;
 };
 
