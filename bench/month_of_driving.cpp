@@ -148,9 +148,9 @@ int run(int argc, const char* const argv[]) {
   }
   month.close();
   std::printf("%s: %d days, %d drives, %.1f h of driving, %.0f km, %zu input messages, %zu segments x %d wheels, "
-              "%zu coarse cells\n",
+              "%zu fine and %zu coarse cells\n",
               a.get("out").c_str(), days, days * per_day, driving_s / 3600.0, distance_m / 1000.0, messages, segments,
-              wheels, data.drive_cells ? truth.evaluationPoints() : 0);
+              wheels, truth.fineDriveCells(), truth.evaluationPoints());
   return 0;
 }
 

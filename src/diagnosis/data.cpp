@@ -198,12 +198,20 @@ DiagnosisData buildDiagnosisData(const RunTable& table) {
     condition_set.insert(r.condition);
   }
   const bool all_cycles = std::all_of(d.runs.begin(), d.runs.end(), [](const DiagnosisRun& r) { return r.cycle >= 0; });
+  // Drive segments of several wheels between the same checkpoints share a period (their run order): holding out a
+  // period holds out what the other wheels saw then, and costs one fold per period, not per wheel and segment.
+  std::set<int> periods;
+  for (const DiagnosisRun& r : d.runs) periods.insert(r.run_order);
+  const bool by_period = !all_cycles && periods.size() >= 4 && orders_known &&
+                         std::all_of(d.runs.begin(), d.runs.end(), [](const DiagnosisRun& r) { return r.isDrive(); });
   for (const DiagnosisRun& r : d.runs) {
     if (all_cycles && cycle_set.size() >= 4) d.cv_groups.push_back("cycle " + std::to_string(r.cycle));
+    else if (by_period) d.cv_groups.push_back("period " + std::to_string(r.run_order));
     else if (condition_set.size() >= 4) d.cv_groups.push_back(r.condition);
     else d.cv_groups.push_back(std::to_string(d.cv_groups.size()));
   }
   d.cv_scheme = (all_cycles && cycle_set.size() >= 4) ? "leave one cycle out"
+                : by_period                          ? "leave one period out"
                 : condition_set.size() >= 4          ? "leave one condition out"
                                                      : "leave one run out";
   return d;

@@ -171,7 +171,9 @@ struct DriveCells {
   std::vector<DiagnosisRun> fine, coarse;  ///< centroids (temperature in tread_temperature_c)
   std::vector<int> coarse_of_fine;
   std::vector<std::vector<Share>> fine_shares, coarse_shares;  ///< per run; empty for a steady run
-  std::map<std::pair<int, int>, std::vector<ExtendedModel::RawResult>> fine_base, coarse_base;
+  /// Keyed by preset, orientation and the tire file's friction and wear levels (the models of one data set share a
+  /// tire file; the levels keep a model of another file from reading these).
+  std::map<std::vector<double>, std::vector<ExtendedModel::RawResult>> fine_base, coarse_base;
 };
 
 namespace {
@@ -258,6 +260,8 @@ ExtendedModel::ExtendedModel(const TireParams& base, const ExtendedModelOptions&
     drive_ = data_.drive_cells;
   }
 }
+
+std::size_t ExtendedModel::fineDriveCells() const { return drive_ ? drive_->fine.size() : 0; }
 
 std::size_t ExtendedModel::evaluationPoints() const {
   return distinct_steady_ + (drive_ ? drive_->coarse.size() : 0);
@@ -433,9 +437,16 @@ bool ExtendedModel::predict(const std::vector<double>& values, Prediction* out) 
   // values by the coarse ones' change (extensions.h).
   std::vector<RawResult> fine;
   if (drive_ && !options_.coarse_drive_cells) {
-    const std::pair<int, int> preset_key(static_cast<int>(options_.preset), static_cast<int>(brush_options_.orientation));
+    const std::vector<double> preset_key = {static_cast<double>(options_.preset),
+                                            static_cast<double>(brush_options_.orientation),
+                                            base_.friction.mu_0,
+                                            base_.friction.mu_m,
+                                            base_.friction.q,
+                                            base_.wear.w3_kg_per_s_m2,
+                                            base_.wear.w4_kg_per_s_m2,
+                                            base_.footprint.b_m};
     auto base_results = [&](const std::vector<DiagnosisRun>& cells,
-                            std::map<std::pair<int, int>, std::vector<RawResult>>* store) -> const std::vector<RawResult>& {
+                            std::map<std::vector<double>, std::vector<RawResult>>* store) -> const std::vector<RawResult>& {
       auto it = store->find(preset_key);
       if (it == store->end()) {
         std::vector<RawResult> r(cells.size());

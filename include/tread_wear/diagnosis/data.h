@@ -80,7 +80,9 @@ struct DiagnosisData {
   bool has_turn_slip = false;          ///< some run has a path curvature (orientation matters)
   int measured_count[kNumOutputs] = {0, 0};
   std::vector<std::string> cv_groups;  ///< cross-validation group of each run
-  std::string cv_scheme;               ///< "leave one cycle out", "leave one condition out" or "leave one run out"
+  /// "leave one cycle out", "leave one period out" (drive segments of all wheels between the same two checkpoints,
+  /// by run order), "leave one condition out" or "leave one run out"
+  std::string cv_scheme;
   /// Values left out while screening the recordings, "run i (condition 'c'): why" (recording_checks.h)
   std::vector<std::string> warnings;
 };

@@ -159,6 +159,8 @@ class ExtendedModel {
   /// Operating points the brush model is evaluated at per new set of brush-relevant parameter values: the distinct
   /// steady conditions plus the coarse cells of all drive segments together (drive cells, below).
   std::size_t evaluationPoints() const;
+  /// The fine drive cells, evaluated once per preset at the base brush parameters (0 without drive segments).
+  std::size_t fineDriveCells() const;
   /// Brush evaluations so far: only a change of a brush-relevant parameter (mu_scale, a friction, compliance or
   /// load-spread term) re-simulates; w3_scale, thermal_wear, surface_polishing, the sensor terms and user terms
   /// act on cached results. The drive cells' one evaluation at the base parameters is not counted here.

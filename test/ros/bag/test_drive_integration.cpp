@@ -99,8 +99,10 @@ TEST(DriveIntegration, SegmentPredictionEqualsTheReplaysWearOfTheSegment) {
       total_replay += replay_kg;
       total_predicted += predicted_kg;
     }
-    std::printf("largest |error| %.3f%%, whole drive %+.4f%%, %zu brush evaluations per new parameter value\n",
-                100.0 * worst, 100.0 * (total_predicted / total_replay - 1.0), model.evaluationPoints());
+    std::printf("largest |error| %.3f%%, whole drive %+.4f%%; %zu fine cells, %zu coarse cells (brush evaluations "
+                "per new parameter value)\n",
+                100.0 * worst, 100.0 * (total_predicted / total_replay - 1.0), model.fineDriveCells(),
+                model.evaluationPoints());
     EXPECT_LT(worst, 0.01);  // issue 26: within 1% of the replay's wear for the same segment
   }
 }
