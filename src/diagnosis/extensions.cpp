@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <set>
 #include <stdexcept>
 
@@ -21,6 +22,8 @@ constexpr int kBaseParameters = 2;
 constexpr std::size_t kCacheEntries = 64;
 /// Compliance root: |alpha_eff - alpha - c Fy| below this [rad] (0.0001 deg) ends the secant iteration.
 constexpr double kComplianceTolerance_rad = 2e-6;
+/// thermal_friction evaluates one brush model per tread temperature rounded to this [degC].
+constexpr double kThermalFrictionResolution_c = 0.1;
 constexpr int kComplianceIterations = 12;
 
 std::vector<TermInfo> makeLibrary() {
@@ -389,15 +392,24 @@ bool ExtendedModel::predict(const std::vector<double>& values, Prediction* out) 
   p.wear.temperature_enabled = false;  // Eq 25 is applied below, after the brush evaluation
   auto evaluate = [&](const std::vector<const DiagnosisRun*>& points, std::vector<RawResult>* raw) {
     if (k_t != 0.0) {
+      // One brush model per tread temperature, to kThermalFrictionResolution_c: drive cells share them (a cell's
+      // friction factor is then off by at most k_T x 0.05 degC, below 1e-4 for any plausible k_T).
       const double t_ref = termInfo(Term::kThermalFriction).temperature_ref_c;
+      std::map<long, std::unique_ptr<BrushWearModel>> models;
       for (std::size_t j = 0; j < points.size(); ++j) {
         if (points[j] == nullptr) continue;
-        const double factor = 1.0 - k_t * (points[j]->tread_temperature_c - t_ref);
-        if (!(factor > 0.05)) return false;  // friction would vanish: outside the term's validity
-        TireParams pj = p;
-        pj.friction.mu_0 *= factor;
-        pj.friction.mu_m *= factor;
-        (*raw)[j] = evaluateRun(BrushWearModel(pj, brush_options_), *points[j], compliance, load_std_scale);
+        if (!std::isfinite(points[j]->tread_temperature_c)) return false;  // the term needs the temperature
+        const long t_key = std::lround(points[j]->tread_temperature_c / kThermalFrictionResolution_c);
+        auto it = models.find(t_key);
+        if (it == models.end()) {
+          const double factor = 1.0 - k_t * (t_key * kThermalFrictionResolution_c - t_ref);
+          if (!(factor > 0.05)) return false;  // friction would vanish: outside the term's validity
+          TireParams pj = p;
+          pj.friction.mu_0 *= factor;
+          pj.friction.mu_m *= factor;
+          it = models.emplace(t_key, std::make_unique<BrushWearModel>(pj, brush_options_)).first;
+        }
+        (*raw)[j] = evaluateRun(*it->second, *points[j], compliance, load_std_scale);
       }
       return true;
     }
