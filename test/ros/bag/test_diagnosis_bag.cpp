@@ -70,6 +70,11 @@ class DiagnosisBagWriter {
     m.data = kg;
     write("measured/mass", t, m);
   }
+  void treadDepth(double t, double m) {
+    std_msgs::Float64 d;
+    d.data = m;
+    write("measured/tread_depth", t, d);
+  }
   void cycle(double t, int id) {
     std_msgs::Int32 c;
     c.data = id;
@@ -179,6 +184,27 @@ TEST(DiagnosisBag, SegmentsBecomeRunsWithTrapezoidMeansOnTheReplayGrid) {
   for (const WeightedOperatingPoint& p : b.drive_points) d += p.distance_m;
   EXPECT_NEAR(d, distance_b, 1e-9);
   ASSERT_EQ(b.drive_points.size(), 2u);
+}
+
+// A tread-depth gauge instead of a scale: the loss is the depth difference times the mass of a uniform tread layer
+// per unit depth, rho w 2 pi R (the Grosch wheel: 1150 kg/m^3, 18 mm, 36 mm). Inputs at 10 Hz, the node's timeout.
+TEST(DiagnosisBag, TreadDepthCheckpointsGiveTheLossOfTheirLayer) {
+  DiagnosisBagWriter w("diagnosis_tread_depth.bag");
+  w.treadDepth(kT0, 6.0e-3);
+  for (int k = 0; k <= 100; ++k) w.inputs(kT0 + 0.1 * k, 2.0, -0.17, 75.0, 40.0);
+  w.treadDepth(kT0 + 10.0, 6.0e-3 - 2e-6);
+  const RunTable t = readDiagnosisBag(w.close(), rigTire(), ReplaySettings());
+  ASSERT_EQ(t.runs.size(), 1u);
+  const double layer_kg_per_m = 1150.0 * 18e-3 * 2.0 * M_PI * 36e-3;
+  EXPECT_NEAR(t.runs[0].covariates[2], 2e-6 * layer_kg_per_m, 1e-15);
+  EXPECT_NEAR(t.runs[0].drive_distance_m, 20.0, 1e-9);
+  EXPECT_NEAR(t.runs[0].measured_wear_rate_kg_per_m, 2e-6 * layer_kg_per_m / 20.0, 1e-15);
+
+  DiagnosisBagWriter deeper("diagnosis_tread_deeper.bag");
+  deeper.treadDepth(kT0, 6.0e-3);
+  for (int k = 0; k <= 100; ++k) deeper.inputs(kT0 + 0.1 * k, 2.0, -0.17, 75.0, 40.0);
+  deeper.treadDepth(kT0 + 10.0, 6.0e-3 + 1e-6);
+  EXPECT_NE(errorOf(deeper.close()).find("the tread depth did not decrease"), std::string::npos);
 }
 
 TEST(DiagnosisBag, MalformedBagsNameTheProblem) {
