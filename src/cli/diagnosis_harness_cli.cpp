@@ -32,7 +32,7 @@ int runHarnessCli(int argc, const char* const argv[], std::ostream& out, std::os
       "  design drives (docs/diagnosis.md, \"Drive-level cases\"; effects thermal_wear and rough_road):\n"
       "       --vehicles FILE[=MASS_KG],...  vehicle parameter files (=MASS_KG: that mass instead of the file's, a\n"
       "                  variant named <name>_<mass>kg)  --profile SPEED.csv  the cycle (data/wltc_class3b.csv)\n"
-      "       [--checkpoints 7] [--segment-km 3000] [--rate-hz 10] [--gauge-sigma-mm 0]\n";
+      "       [--checkpoints 4] [--segment-km 3000] [--rate-hz 10] [--gauge-sigma-mm 0]\n";
   CommandLine a;
   std::string parse_error;
   const bool parsed = a.parse(argc, argv,

@@ -4,7 +4,7 @@
 /// wear is measured at checkpoints every few thousand kilometres on every wheel, so that the diagnosis is proved on
 /// drive segments (extensions.h: a run with drive points) as well as on rig runs.
 ///
-/// Per vehicle, `checkpoints` tread measurements on every wheel; a segment (between two) is about
+/// Per vehicle, `checkpoints` wear measurements on every wheel; a segment (between two) is about
 /// segment_distance_m of repetitions of one cycle (the WLTC class 3b profile) under the segment's conditions:
 ///   season     ambient T_a = 11 - 9 cos(2 pi month / 12) + N(0, 1.5^2) degC (a central European year), month = the
 ///              segment's middle, each segment two months (3000 km at 18000 km a year), the vehicle's first month
@@ -21,6 +21,11 @@
 /// gives the same inputs: ONE cycle is simulated per (vehicle, segment) and its time and distance weights are
 /// multiplied by the number of repetitions, round(segment_distance_m / cycle distance) >= 1 (each repetition
 /// starts cold, as the simulated cycle does).
+/// Cells: the points are binned far coarser than point_cells.h's defaults (coarseDriveCells(): about 80 cells per
+/// wheel and segment instead of about 4500), so that a case costs minutes: at the defaults 72 segments gave 324k
+/// cells, and one prediction at `reference` (about 3 ms a cell) a quarter of an hour. The truth and the diagnosis
+/// see the same cells, so the binning is part of the case, not an error of the proof; what binning costs against
+/// the step-by-step replay is the replay check's (docs/diagnosis.md, "Drives between measurements").
 /// Tread temperature, recorded as the wheel's temperature input (so the points carry it): a first-order lag
 ///   dT/dt = (T_ss - T) / tau,  T_ss = T_a + o + k (f_r Fz V + |Fy| V |sin alpha| + |Fx| V |kappa|),  T(0) = T_a + o,
 /// the heat of rolling resistance plus the slip power of the force demands (vehicle_model.h: no tire model is
@@ -57,15 +62,15 @@ constexpr double kRoughRoadMeanShare = 0.35;
 /// The drive design's out-of-library effect (no library term): wear x (1 + beta (rough_road_share - mean)).
 constexpr const char* kRoughRoadEffect = "rough_road";
 
-/// The drive design's cells: load 10%, |alpha| and |kappa| 30% above 1e-3, speed 30% above 1 m/s, |1/R| 100% above
-/// 1e-3 1/m, tread temperature 4 degC.
+/// The drive design's cells (point_cells.h's asinh widths): load 0.7 (a bin per factor of about 2 above 100 N),
+/// |alpha| and |kappa| 2.5 above 1e-3, speed 1.5 above 1 m/s, |1/R| 3 above 1e-3 1/m, tread temperature 10 degC.
 PointCellParams coarseDriveCells();
 
 /// The fleet and measurement plan of the drive design.
 struct DriveFleet {
   std::vector<VehicleParams> vehicles;           ///< at least one, each valid
   std::shared_ptr<const SpeedProfile> profile;   ///< the cycle repeated (WLTC class 3b), not null
-  int checkpoints = 6;                           ///< measurements per wheel, >= 2 (segments = checkpoints - 1)
+  int checkpoints = 4;                           ///< measurements per wheel, >= 2 (segments = checkpoints - 1)
   double segment_distance_m = 3.0e6;             ///< distance between checkpoints [m], > 0 (whole cycles)
   double update_rate_hz = 10.0;                  ///< input samples and segmenter steps [Hz], in [1, 100]
   double payload_max_kg = 300.0;                 ///< largest payload of a segment [kg], >= 0
