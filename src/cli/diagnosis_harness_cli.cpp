@@ -23,8 +23,8 @@ namespace diagnosis {
 int runHarnessCli(int argc, const char* const argv[], std::ostream& out, std::ostream& err) {
   const char* usage_text =
       "usage: tread_wear_diagnosis_harness --params FILE [--quick] [--design table2|small|low_slip|drives]\n"
-      "       [--repeats N] [--controls N] [--effects a,b] [--noise 0.05,0.10] [--one-magnitude] [--information] [--alpha-select X]\n"
-      "       [--jobs N] [--seed N] [--csv OUT] [--preset auto|fast|standard|fine|reference]\n"
+      "       [--repeats N] [--controls N] [--effects a,b] [--noise 0.05,0.10] [--one-magnitude] [--information]\n"
+      "       [--alpha-select X] [--jobs N] [--seed N] [--csv OUT] [--preset auto|fast|standard|fine|reference]\n"
       "       [--generator-preset fast|standard|fine|reference]\n"
       "       [--force-noise-model auto|additive|relative|combined]\n"
       "       [--wear-noise-model auto|additive|relative|combined] [--mechanisms FILE]\n"

@@ -13,17 +13,17 @@ namespace tread_wear {
 namespace diagnosis {
 namespace {
 
-constexpr double kAmbientMeanC = 11.0;        ///< yearly mean ambient temperature [degC]
-constexpr double kAmbientSwingC = 9.0;        ///< seasonal half swing [degC]
-constexpr double kAmbientNoiseC = 1.5;        ///< weather around the season within a segment's mean [degC]
-constexpr double kSegmentMonths = 2.0;        ///< months per segment (3000 km at 18000 km a year)
+constexpr double kAmbientMeanC = 11.0;  ///< yearly mean ambient temperature [degC]
+constexpr double kAmbientSwingC = 9.0;  ///< seasonal half swing [degC]
+constexpr double kAmbientNoiseC = 1.5;  ///< weather around the season within a segment's mean [degC]
+constexpr double kSegmentMonths = 2.0;  ///< months per segment (3000 km at 18000 km a year)
 constexpr double kSpeedScaleMin = 0.92, kSpeedScaleMax = 1.05;  ///< the cycle's speeds as driven [-]
 constexpr double kAccelScaleMin = 0.7, kAccelScaleMax = 1.4;    ///< the `normal` envelope as driven [-]
 constexpr double kRoughShareMin = 0.05, kRoughShareMax = 0.65;  ///< share of coarse asphalt [-]
-constexpr double kHeatingC_per_W = 0.015;     ///< steady tread temperature rise per watt of heat [degC/W]
-constexpr double kThermalLag_s = 300.0;       ///< tread temperature time constant [s]
-constexpr double kWheelOffsetC = 1.0;         ///< per wheel and segment temperature offset spread [degC]
-constexpr double kMinMeasuredFraction = 0.05; ///< floor of a measured wear rate, of the truth [-]
+constexpr double kHeatingC_per_W = 0.015;      ///< steady tread temperature rise per watt of heat [degC/W]
+constexpr double kThermalLag_s = 300.0;        ///< tread temperature time constant [s]
+constexpr double kWheelOffsetC = 1.0;          ///< per wheel and segment temperature offset spread [degC]
+constexpr double kMinMeasuredFraction = 0.05;  ///< floor of a measured wear rate, of the truth [-]
 
 /// The cycle with its speeds scaled (same times, so the distance scales too).
 SpeedProfile scaledProfile(const SpeedProfile& p, double scale) {
@@ -78,8 +78,7 @@ std::vector<DriveSegmentRuns> simulateDriveFleet(const DriveFleet& fleet, std::u
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   auto between = [&](double lo, double hi) { return lo + (hi - lo) * uniform(rng); };
 
-  table->covariate_names = {"ambient_c", "rough_road_share", "payload_kg", "speed_scale", "accel_scale",
-                            "odometer_km"};
+  table->covariate_names = {"ambient_c", "rough_road_share", "payload_kg", "speed_scale", "accel_scale", "odometer_km"};
   table->text_covariate_names = {"vehicle", "wheel"};
   ReplaySettings settings;
   settings.update_rate_hz = fleet.update_rate_hz;
@@ -104,8 +103,7 @@ std::vector<DriveSegmentRuns> simulateDriveFleet(const DriveFleet& fleet, std::u
       DrivingEnvelope envelope;
       envelope.max_accel_mps2 = std::min(kMaxEnvelopeAccel_mps2, envelope.max_accel_mps2 * accel_scale);
       envelope.max_decel_mps2 = std::min(kMaxEnvelopeAccel_mps2, envelope.max_decel_mps2 * accel_scale);
-      envelope.max_lateral_accel_mps2 =
-          std::min(kMaxEnvelopeAccel_mps2, envelope.max_lateral_accel_mps2 * accel_scale);
+      envelope.max_lateral_accel_mps2 = std::min(kMaxEnvelopeAccel_mps2, envelope.max_lateral_accel_mps2 * accel_scale);
       const EnvelopeDrive drive = driveWithinEnvelope(profile, route, envelope);
       VehicleParams vp = fleet.vehicles[v];
       vp.mass_kg += payload;
@@ -175,8 +173,7 @@ std::vector<DriveSegmentRuns> simulateDriveFleet(const DriveFleet& fleet, std::u
 
 std::vector<double> measureDriveWear(const std::vector<DriveSegmentRuns>& segments,
                                      const std::vector<double>& true_wear_kg_per_m, double wear_noise_rsd,
-                                     double depth_gauge_sigma_m, double mass_per_depth_kg_per_m,
-                                     std::uint64_t seed) {
+                                     double depth_gauge_sigma_m, double mass_per_depth_kg_per_m, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> normal(0.0, 1.0);
   std::vector<double> out;

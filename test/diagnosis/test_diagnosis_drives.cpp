@@ -36,7 +36,9 @@ std::shared_ptr<const SpeedProfile> testCycle() {
 constexpr double kCycleDistance_m = kCruise_mps * (kRamp_s / 2 + kHold_s + kRamp_s / 2);
 
 /// The passenger tire the fleet drives on.
-TireParams passengerTire() { return loadTireParams(std::string(TREAD_WEAR_SOURCE_DIR) + "/config/tires/passenger_205_55_r16.yaml"); }
+TireParams passengerTire() {
+  return loadTireParams(std::string(TREAD_WEAR_SOURCE_DIR) + "/config/tires/passenger_205_55_r16.yaml");
+}
 
 DriveFleet testFleet() {
   DriveFleet f;
@@ -133,8 +135,9 @@ TEST(DriveDesign, RoughRoadScalesTheTruthByItsShare) {
     const double x = rough.table.runs[i].covariates[share];
     lo = std::min(lo, x);
     hi = std::max(hi, x);
-    EXPECT_NEAR(rough.noise_free.runs[i].measured_wear_rate_kg_per_m / plain.noise_free.runs[i].measured_wear_rate_kg_per_m,
-                1.0 + beta * (x - 0.35), 1e-12);
+    EXPECT_NEAR(
+        rough.noise_free.runs[i].measured_wear_rate_kg_per_m / plain.noise_free.runs[i].measured_wear_rate_kg_per_m,
+        1.0 + beta * (x - 0.35), 1e-12);
   }
   EXPECT_GT(hi - lo, 0.1) << "the share must vary between segments for the effect to show";
   EXPECT_EQ(rough.answer.primary_value, beta);
@@ -150,7 +153,7 @@ TEST(DriveDesign, GaugeNoiseTelescopesOverAWheel) {
   fleet.checkpoints = 9;
   const std::vector<DriveSegmentRuns> segments = simulateDriveFleet(fleet, 3, &table);
   const double sigma_m = 1e-4, mass_per_depth = 40.0;  // 0.1 mm, a passenger tire's ~40 kg/m
-  std::vector<double> truth(table.runs.size(), 1e-6);   // 1 mg/m
+  std::vector<double> truth(table.runs.size(), 1e-6);  // 1 mg/m
   double sum_sq = 0.0;
   int n = 0;
   for (std::uint64_t seed = 1; seed <= 15; ++seed) {
@@ -158,7 +161,8 @@ TEST(DriveDesign, GaugeNoiseTelescopesOverAWheel) {
     std::map<std::pair<int, int>, double> error_kg;  // (vehicle, wheel) -> sum of (measured - true) loss
     std::size_t i = 0;
     for (const DriveSegmentRuns& seg : segments)
-      for (int w = 0; w < kWheelCount; ++w, ++i) error_kg[{seg.vehicle, w}] += (m[i] - truth[i]) * seg.runs[w].drive_distance_m;
+      for (int w = 0; w < kWheelCount; ++w, ++i)
+        error_kg[{seg.vehicle, w}] += (m[i] - truth[i]) * seg.runs[w].drive_distance_m;
     for (const auto& [key, e] : error_kg) {
       sum_sq += e * e;
       ++n;

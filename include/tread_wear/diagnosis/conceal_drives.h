@@ -68,13 +68,13 @@ PointCellParams coarseDriveCells();
 
 /// The fleet and measurement plan of the drive design.
 struct DriveFleet {
-  std::vector<VehicleParams> vehicles;           ///< at least one, each valid
-  std::shared_ptr<const SpeedProfile> profile;   ///< the cycle repeated (WLTC class 3b), not null
-  int checkpoints = 4;                           ///< measurements per wheel, >= 2 (segments = checkpoints - 1)
-  double segment_distance_m = 3.0e6;             ///< distance between checkpoints [m], > 0 (whole cycles)
-  double update_rate_hz = 10.0;                  ///< input samples and segmenter steps [Hz], in [1, 100]
-  double payload_max_kg = 300.0;                 ///< largest payload of a segment [kg], >= 0
-  double depth_gauge_sigma_m = 0.0;              ///< tread-depth reading noise [m], >= 0 (0: weighed only)
+  std::vector<VehicleParams> vehicles;          ///< at least one, each valid
+  std::shared_ptr<const SpeedProfile> profile;  ///< the cycle repeated (WLTC class 3b), not null
+  int checkpoints = 4;                          ///< measurements per wheel, >= 2 (segments = checkpoints - 1)
+  double segment_distance_m = 3.0e6;            ///< distance between checkpoints [m], > 0 (whole cycles)
+  double update_rate_hz = 10.0;                 ///< input samples and segmenter steps [Hz], in [1, 100]
+  double payload_max_kg = 300.0;                ///< largest payload of a segment [kg], >= 0
+  double depth_gauge_sigma_m = 0.0;             ///< tread-depth reading noise [m], >= 0 (0: weighed only)
   /// Cells of the segments' points (point_cells.h); coarser than the defaults (see the file comment)
   PointCellParams cells = coarseDriveCells();
 
@@ -98,9 +98,8 @@ std::vector<DriveSegmentRuns> simulateDriveFleet(const DriveFleet& fleet, std::u
 /// weighed with relative noise wear_noise_rsd and, with depth_gauge_sigma_m > 0, the tread-depth readings (file
 /// comment). mass_per_depth_kg_per_m: MaterialParams::massPerDepth_kg_per_m of the tire.
 std::vector<double> measureDriveWear(const std::vector<DriveSegmentRuns>& segments,
-                                     const std::vector<double>& true_wear_kg_per_m,
-                                     double wear_noise_rsd, double depth_gauge_sigma_m,
-                                     double mass_per_depth_kg_per_m, std::uint64_t seed);
+                                     const std::vector<double>& true_wear_kg_per_m, double wear_noise_rsd,
+                                     double depth_gauge_sigma_m, double mass_per_depth_kg_per_m, std::uint64_t seed);
 
 }  // namespace diagnosis
 }  // namespace tread_wear
