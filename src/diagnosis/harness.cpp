@@ -26,7 +26,7 @@ constexpr double kParameterTolerance = 0.25;
 std::vector<std::pair<std::string, double>> magnitudes(Term t, bool two) {
   if (t == Term::kNone) {  // rough_road (the only effect that is no term): beta
     if (!two) return {{"default", kRoughRoadDefaultBeta}};
-    return {{"small", 0.25}, {"large", 0.5}};
+    return {{"small", 0.35}, {"large", 0.7}};
   }
   if (!two || t == Term::kTurnSlipOrientation) return {{"default", defaultMagnitude(t)}};
   switch (t) {

@@ -66,8 +66,8 @@ struct ConcealCase {
   ConcealAnswer answer;
 };
 
-/// Default magnitude of the drive design's rough_road effect: beta [-] (wear +-10% over the design's shares).
-constexpr double kRoughRoadDefaultBeta = 0.35;
+/// Default magnitude of the drive design's rough_road effect: beta [-] (wear +-21% over the design's shares).
+constexpr double kRoughRoadDefaultBeta = 0.7;
 /// Name of rough_road's parameter beta in ConcealAnswer [-].
 constexpr const char* kRoughRoadBetaName = "rough_road_beta";
 
