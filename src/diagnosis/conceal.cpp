@@ -1,5 +1,6 @@
 #include "tread_wear/diagnosis/conceal.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <stdexcept>
@@ -50,10 +51,16 @@ bool ConcealSpec::validate(std::string* error) const {
     return false;
   };
   Term t;
-  if (effect != "none" && !parseTerm(effect, &t))
-    return fail("effect = '" + effect + "' is not a library term or none");
-  if (design != "table2" && design != "small" && design != "low_slip")
-    return fail("design = '" + design + "' must be table2, small or low_slip");
+  const bool drives = design == "drives";
+  if (effect != "none" && !parseTerm(effect, &t) && !(drives && effect == kRoughRoadEffect))
+    return fail("effect = '" + effect + "' is not a library term or none" +
+                (drives ? std::string(" or ") + kRoughRoadEffect : std::string()));
+  if (design != "table2" && design != "small" && design != "low_slip" && !drives)
+    return fail("design = '" + design + "' must be table2, small, low_slip or drives");
+  if (drives) {
+    std::string e;
+    if (!fleet.validate(&e)) return fail(e);
+  }
   if (!(wear_noise_rsd >= 0.0) || wear_noise_rsd > 0.5) return fail("wear_noise_rsd must be in [0, 0.5]");
   if (!(side_force_noise_n >= 0.0)) return fail("side_force_noise_n must be >= 0");
   if (!std::isnan(magnitude) && !std::isfinite(magnitude)) return fail("magnitude must be finite");
@@ -84,12 +91,15 @@ ConcealCase concealEffect(const TireParams& base, const ConcealSpec& spec) {
   std::mt19937_64 rng(spec.seed);
   std::normal_distribution<double> normal(0.0, 1.0);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const bool drives = spec.design == "drives";
+  const bool rough_road = spec.effect == kRoughRoadEffect;
   const bool has_effect = spec.effect != "none";
   Term term = Term::kNone;
-  if (has_effect) parseTerm(spec.effect, &term);
+  if (has_effect && !rough_road) parseTerm(spec.effect, &term);
   double magnitude = spec.magnitude;
-  if (has_effect && std::isnan(magnitude)) magnitude = defaultMagnitude(term);
-  if (has_effect && std::isnan(magnitude) && termInfo(term).primary >= 0)
+  if (rough_road && std::isnan(magnitude)) magnitude = kRoughRoadDefaultBeta;
+  if (term != Term::kNone && std::isnan(magnitude)) magnitude = defaultMagnitude(term);
+  if (term != Term::kNone && std::isnan(magnitude) && termInfo(term).primary >= 0)
     throw std::invalid_argument("effect '" + spec.effect +
                                 "' has no default magnitude: give one (--magnitude, or test_magnitudes in its file)");
 
@@ -99,40 +109,43 @@ ConcealCase concealEffect(const TireParams& base, const ConcealSpec& spec) {
   ans.spec = spec;
   ans.spec.magnitude = magnitude;
 
-  // The program.
   RunTable& table = out.table;
-  table.covariate_names = {"duration_s", "ambient_c", "humidity_percent"};
-  table.text_covariate_names = {"group"};
-  const int cycles_per_group = spec.design == "small" ? 1 : 2;
-  const auto& groups = spec.design == "low_slip" ? kLowSlipGroups : kGroups;
-  int cycle = 0, order = 0;
-  for (int g = 0; g < 3; ++g)
-    for (int c = 0; c < cycles_per_group; ++c) {
-      ++cycle;
-      const double ambient = 23.0 + kAmbientSpreadC * normal(rng);
-      for (int rep = 0; rep < 2; ++rep)
-        for (int k = 0; k < 3; ++k) {
-          const Condition& cond = groups[g][c % 2 == 0 ? k : 2 - k];
-          RunRecord r;
-          r.op.speed_mps = cond.speed_mps;
-          r.op.slip_angle_rad = -cond.alpha_deg * M_PI / 180.0;
-          r.op.path_curvature_per_m = 1.0 / kTrackRadius_m;
-          r.op.load_n = cond.load_n;
-          const double rel_std = term == Term::kLoadFluctuation ? magnitude : kLoadStdFraction;
-          r.load_std_n = rel_std * cond.load_n * (0.5 + uniform(rng));
-          r.condition_id = conditionId(cond);
-          r.cycle_id = cycle;
-          r.run_order = ++order;
-          r.covariates = {cond.duration_s, ambient, 45.0 + 10.0 * normal(rng)};
-          r.text_covariates = {kGroupNames[g]};
-          r.measured_side_force_n = 1.0;  // placeholders until the truth is evaluated
-          r.measured_wear_rate_kg_per_m = 1.0;
-          table.runs.push_back(r);
-        }
-    }
+  std::vector<DriveSegmentRuns> segments;
+  if (drives) {
+    segments = simulateDriveFleet(spec.fleet, spec.seed, &table);
+  } else {
+    // The program.
+    table.covariate_names = {"duration_s", "ambient_c", "humidity_percent"};
+    table.text_covariate_names = {"group"};
+    const int cycles_per_group = spec.design == "small" ? 1 : 2;
+    const auto& groups = spec.design == "low_slip" ? kLowSlipGroups : kGroups;
+    int cycle = 0, order = 0;
+    for (int g = 0; g < 3; ++g)
+      for (int c = 0; c < cycles_per_group; ++c) {
+        ++cycle;
+        const double ambient = 23.0 + kAmbientSpreadC * normal(rng);
+        for (int rep = 0; rep < 2; ++rep)
+          for (int k = 0; k < 3; ++k) {
+            const Condition& cond = groups[g][c % 2 == 0 ? k : 2 - k];
+            RunRecord r;
+            r.op.speed_mps = cond.speed_mps;
+            r.op.slip_angle_rad = -cond.alpha_deg * M_PI / 180.0;
+            r.op.path_curvature_per_m = 1.0 / kTrackRadius_m;
+            r.op.load_n = cond.load_n;
+            const double rel_std = term == Term::kLoadFluctuation ? magnitude : kLoadStdFraction;
+            r.load_std_n = rel_std * cond.load_n * (0.5 + uniform(rng));
+            r.condition_id = conditionId(cond);
+            r.cycle_id = cycle;
+            r.run_order = ++order;
+            r.covariates = {cond.duration_s, ambient, 45.0 + 10.0 * normal(rng)};
+            r.text_covariates = {kGroupNames[g]};
+            r.measured_side_force_n = 1.0;  // placeholders until the truth is evaluated
+            r.measured_wear_rate_kg_per_m = 1.0;
+            table.runs.push_back(r);
+          }
+      }
 
-  // Tread temperatures from the friction power of the base model.
-  {
+    // Tread temperatures from the friction power of the base model.
     const DiagnosisData plain = buildDiagnosisData(table);
     ExtendedModel model(base, spec.model, {}, plain);
     Prediction p;
@@ -143,27 +156,31 @@ ConcealCase concealEffect(const TireParams& base, const ConcealSpec& spec) {
       r.op.tread_temperature_c = r.covariates[1] + kHeatingC_per_W * power_w + kTemperatureNoiseC * normal(rng);
     }
   }
+  if (drives)  // placeholders until the truth is evaluated (buildDiagnosisData needs measurements); no side force
+    for (RunRecord& r : table.runs) r.measured_wear_rate_kg_per_m = 1.0;
 
   // Truth.
   const DiagnosisData data = buildDiagnosisData(table);
-  if (has_effect && termInfo(term).user) {
+  if (term != Term::kNone && (drives || termInfo(term).user)) {
     std::string why_not;
     if (!termApplicable(term, data, &why_not))
       throw std::invalid_argument("effect '" + spec.effect + "' cannot be concealed in this design: " + why_not);
-    Prediction plain;
-    if (!ExtendedModel(base, spec.model, {}, data).predict({1.0, 1.0}, &plain))
-      throw std::invalid_argument("the base model cannot be evaluated on the design");
-    checkNoEffect(termInfo(term), data, plain);
+    if (termInfo(term).user) {
+      Prediction plain;
+      if (!ExtendedModel(base, spec.model, {}, data).predict({1.0, 1.0}, &plain))
+        throw std::invalid_argument("the base model cannot be evaluated on the design");
+      checkNoEffect(termInfo(term), data, plain);
+    }
   }
   std::vector<Term> terms;
-  if (has_effect) terms.push_back(term);
+  if (term != Term::kNone) terms.push_back(term);
   ExtendedModel truth(base, spec.model, terms, data);
   std::vector<FitParameter> params = truth.parameters();
   std::vector<double> values;
   for (const FitParameter& p : params) values.push_back(p.initial);
   values[0] = std::exp(kW3ScaleSigma * normal(rng));
   values[1] = std::exp(kMuScaleSigma * normal(rng));
-  if (has_effect && term != Term::kTurnSlipOrientation) {
+  if (term != Term::kNone && term != Term::kTurnSlipOrientation) {
     const TermInfo& info = termInfo(term);
     const int off = truth.parameterOffset(term);
     if (term == Term::kThermalWear) {
@@ -182,10 +199,29 @@ ConcealCase concealEffect(const TireParams& base, const ConcealSpec& spec) {
   Prediction pred;
   if (!truth.predict(values, &pred))
     throw std::invalid_argument("the truth model cannot be evaluated for " + spec.effect);
+  if (rough_road) {
+    const int col = static_cast<int>(std::find(table.covariate_names.begin(), table.covariate_names.end(),
+                                               "rough_road_share") - table.covariate_names.begin());
+    for (std::size_t i = 0; i < table.runs.size(); ++i)
+      pred.wear_kg_per_m[i] *= 1.0 + magnitude * (table.runs[i].covariates[col] - kRoughRoadMeanShare);
+    ans.primary = kRoughRoadBetaName;
+    ans.primary_value = magnitude;
+    ans.primary_neutral = 0.0;
+    ans.parameters[kRoughRoadBetaName] = magnitude;
+  }
   out.noise_free = table;
   for (std::size_t i = 0; i < table.runs.size(); ++i) {
-    out.noise_free.runs[i].measured_side_force_n = pred.side_force_n[i];
+    if (!drives) out.noise_free.runs[i].measured_side_force_n = pred.side_force_n[i];
     out.noise_free.runs[i].measured_wear_rate_kg_per_m = pred.wear_kg_per_m[i];
+  }
+  if (drives) {
+    const std::vector<double> measured =
+        measureDriveWear(segments, pred.wear_kg_per_m, spec.wear_noise_rsd, spec.fleet.depth_gauge_sigma_m,
+                         base.material.massPerDepth_kg_per_m(), rng());
+    for (std::size_t i = 0; i < table.runs.size(); ++i) table.runs[i].measured_wear_rate_kg_per_m = measured[i];
+    return out;
+  }
+  for (std::size_t i = 0; i < table.runs.size(); ++i) {
     RunRecord& r = table.runs[i];
     r.measured_side_force_n = pred.side_force_n[i] + spec.side_force_noise_n * normal(rng);
     r.measured_wear_rate_kg_per_m = pred.wear_kg_per_m[i] * std::max(0.05, 1.0 + spec.wear_noise_rsd * normal(rng));

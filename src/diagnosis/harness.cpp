@@ -24,6 +24,10 @@ constexpr double kParameterTolerance = 0.25;
 
 /// Small and large magnitudes of each term's primary parameter in the harness.
 std::vector<std::pair<std::string, double>> magnitudes(Term t, bool two) {
+  if (t == Term::kNone) {  // rough_road (the only effect that is no term): beta
+    if (!two) return {{"default", kRoughRoadDefaultBeta}};
+    return {{"small", 0.35}, {"large", 0.7}};
+  }
   if (!two || t == Term::kTurnSlipOrientation) return {{"default", defaultMagnitude(t)}};
   switch (t) {
     case Term::kThermalWear: return {{"small", 45.0}, {"large", 30.0}};
@@ -94,20 +98,49 @@ std::string referenceCsv(const HarnessOutcome& o) {
   return s.str();
 }
 
+/// Scores a rough_road case (harness.h): o has the verdict and the held-out errors of the base model.
+HarnessOutcome scoreRoughRoad(HarnessOutcome o, const ConcealAnswer& answer, const DiagnosisResult& result) {
+  o.sensor_scored = true;  // a road effect on the wear leaves the (unmeasured) side force alone
+  for (Term s : result.final_model.terms) o.false_sensor = o.false_sensor || !termInfo(s).physical;
+  o.empirical_scored = o.improved_scored = o.parameter_scored = true;
+  o.truth = answer.primary_value;
+  const int wear = static_cast<int>(Output::kWear);
+  for (const EmpiricalTerm& e : result.empirical.terms) {
+    o.empirical_covariate = e.covariate;
+    o.empirical_ok = e.covariate == "rough_road_share" && e.output == Output::kWear &&
+                     e.cv_rmser_after < e.cv_rmser_before;
+    o.cv_after[wear] = e.cv_rmser_after;
+    if (o.empirical_ok && e.form == "linear" && !e.parameters.empty()) {
+      o.parameter_estimated = true;
+      o.estimate = e.parameters.front().value;
+      o.std_error = e.parameters.front().std_error;
+      o.parameter_covered = std::isfinite(o.std_error) && std::abs(o.estimate - o.truth) <= 2.0 * o.std_error;
+      o.parameter_ok = std::abs(o.estimate - o.truth) <= kParameterTolerance * effectSize(answer);
+      o.parameter_ok_relative = std::abs(o.estimate - o.truth) <= kParameterTolerance * std::abs(o.truth);
+    }
+  }
+  o.right = o.empirical_ok;
+  o.improved = o.cv_after[wear] < o.cv_before[wear];
+  o.all_met = o.right && o.parameter_ok && o.improved;
+  return o;
+}
+
 }  // namespace
 
 std::vector<HarnessCase> harnessCases(const HarnessOptions& options) {
   std::vector<HarnessCase> cases;
   std::vector<std::string> effects = options.effects;
+  const bool drives = options.design == "drives";
+  if (effects.empty() && drives) effects = {termInfo(Term::kThermalWear).name, kRoughRoadEffect};
   if (effects.empty())
     for (const TermInfo& t : termLibrary()) effects.push_back(t.name);
   std::uint64_t seed = options.seed;
   for (double wn : options.wear_noise) {
     const double fn = options.side_force_noise_n * wn / 0.05;
     for (const std::string& e : effects) {
-      Term t;
-      if (!parseTerm(e, &t)) continue;
-      if (termInfo(t).primary >= 0 && std::isnan(defaultMagnitude(t)))
+      Term t = Term::kNone;
+      if (!(drives && e == kRoughRoadEffect) && !parseTerm(e, &t)) continue;
+      if (t != Term::kNone && termInfo(t).primary >= 0 && std::isnan(defaultMagnitude(t)))
         throw std::invalid_argument("effect '" + e + "' has no magnitudes for generated cases (test_magnitudes in " +
                                     "its mechanisms file)");
       for (const auto& [label, mag] : magnitudes(t, options.two_magnitudes))
@@ -116,6 +149,7 @@ std::vector<HarnessCase> harnessCases(const HarnessOptions& options) {
           c.spec.effect = e;
           c.spec.magnitude = mag;
           c.spec.design = options.design;
+          c.spec.fleet = options.fleet;
           c.spec.wear_noise_rsd = wn;
           c.spec.side_force_noise_n = fn;
           c.spec.seed = ++seed;
@@ -129,6 +163,7 @@ std::vector<HarnessCase> harnessCases(const HarnessOptions& options) {
       HarnessCase c;
       c.spec.effect = "none";
       c.spec.design = options.design;
+      c.spec.fleet = options.fleet;
       c.spec.wear_noise_rsd = wn;
       c.spec.side_force_noise_n = fn;
       c.spec.seed = ++seed;
@@ -153,6 +188,7 @@ HarnessOutcome scoreCase(const HarnessCase& c, const ConcealAnswer& answer, cons
     o.cv_before[k] = result.base.cv_rmser[k];
     o.cv_after[k] = result.final_model.cv_rmser[k];
   }
+  if (answer.effect == kRoughRoadEffect) return scoreRoughRoad(o, answer, result);
   Term t = Term::kNone;
   const bool has_effect = answer.effect != "none";
   if (has_effect) parseTerm(answer.effect, &t);
@@ -211,8 +247,12 @@ std::vector<HarnessOutcome> runHarness(const TireParams& base, const HarnessOpti
           for (int t = 0; t < static_cast<int>(Term::kFirstUser); ++t)
             if (termInfo(static_cast<Term>(t)).name != cases[i].spec.effect)
               dopt.candidates.push_back(static_cast<Term>(t));
+        const auto d0 = std::chrono::steady_clock::now();
         const DiagnosisResult r = diagnose(base, data, dopt);
+        const double diagnosis_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - d0).count();
         o = scoreCase(cases[i], cc.answer, r);
+        o.diagnosis_seconds = diagnosis_seconds;
+        o.cells = ExtendedModel(base, dopt.model, {}, data).evaluationPoints();
         if (options.information && cases[i].spec.wear_noise_rsd > 0.0 && cases[i].spec.side_force_noise_n > 0.0) {
           const DetectabilityOptions d =
               detectabilityOptions(dopt, cases[i].spec.wear_noise_rsd, cases[i].spec.side_force_noise_n);
@@ -239,7 +279,8 @@ std::vector<HarnessOutcome> runHarness(const TireParams& base, const HarnessOpti
                                                (o.empirical_covariate.empty() ? "none" : o.empirical_covariate) + ")"
                                          : "")
                   << (o.reference_error.empty() ? "" : " (no reference: " + o.reference_error + ")") << " ("
-                  << std::fixed << std::setprecision(1) << o.seconds << " s)\n"
+                  << std::fixed << std::setprecision(1) << o.seconds << " s"
+                  << (o.c.spec.design == "drives" ? ", " + std::to_string(o.cells) + " cells" : "") << ")\n"
                   << std::defaultfloat;
       }
     }
@@ -373,6 +414,22 @@ std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
                 : "")
         << ".\n";
   }
+  std::vector<double> cells, diagnosis_s;
+  for (const HarnessOutcome& o : outcomes)
+    if (o.error.empty() && o.c.spec.design == "drives") {
+      cells.push_back(static_cast<double>(o.cells));
+      diagnosis_s.push_back(o.diagnosis_seconds);
+    }
+  if (!cells.empty()) {
+    auto median = [](std::vector<double> v) {
+      std::sort(v.begin(), v.end());
+      return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+    };
+    s << "\nDrive cases: " << std::fixed << std::setprecision(0) << *std::min_element(cells.begin(), cells.end())
+      << "-" << *std::max_element(cells.begin(), cells.end()) << " cells (median " << median(cells)
+      << "), diagnosis wall time median " << std::setprecision(1) << median(diagnosis_s) << " s (max "
+      << *std::max_element(diagnosis_s.begin(), diagnosis_s.end()) << " s) per case.\n";
+  }
   return s.str();
 }
 
@@ -383,7 +440,7 @@ std::string harnessCsv(const std::vector<HarnessOutcome>& outcomes) {
        "parameter_ok_relative,all_met,estimate,truth,std_error,covered,improved,cv_before_side_force,cv_before_wear,"
        "cv_after_side_force,cv_after_wear,reference_lambda,reference_power,reference_expected_right,"
        "reference_parameter_ok,reference_top_wrong,reference_top_wrong_share,preset,false_sensor,seconds,error,"
-       "empirical_covariate,empirical_ok\n";
+       "empirical_covariate,empirical_ok,cells,diagnosis_seconds\n";
   for (const HarnessOutcome& o : outcomes)
     s << o.c.spec.effect << "," << o.c.magnitude_label << "," << o.c.spec.magnitude << "," << o.c.spec.wear_noise_rsd
       << "," << o.c.spec.side_force_noise_n << "," << o.c.spec.seed << "," << o.explanation << "," << o.right << ","
@@ -394,7 +451,8 @@ std::string harnessCsv(const std::vector<HarnessOutcome>& outcomes) {
       << (o.improved_scored ? std::to_string(o.improved) : "") << "," << o.cv_before[0] << "," << o.cv_before[1] << ","
       << o.cv_after[0] << "," << o.cv_after[1] << "," << referenceCsv(o) << "," << o.preset << ","
       << (o.sensor_scored ? std::to_string(o.false_sensor) : "") << "," << o.seconds << ",\"" << o.error << "\","
-      << o.empirical_covariate << "," << (o.empirical_scored ? std::to_string(o.empirical_ok) : "") << "\n";
+      << o.empirical_covariate << "," << (o.empirical_scored ? std::to_string(o.empirical_ok) : "") << ","
+      << o.cells << "," << o.diagnosis_seconds << "\n";
   return s.str();
 }
 

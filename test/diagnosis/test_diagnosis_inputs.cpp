@@ -348,6 +348,19 @@ TEST(DiagnosisHarnessCli, RunsWithTheReferenceAndRejectsBadUsage) {
   EXPECT_EQ(alpha.code, 2);
   EXPECT_NE(alpha.err.find("alpha_select"), std::string::npos) << alpha.err;
   EXPECT_EQ(harnessCli({"--params", kSource + "/no/such/file.yaml", "--quick", "--effects", "sensor_offset"}).code, 1);
+  // Design drives: its fleet options are required with it and refused without it; rough_road is its effect only.
+  const CliResult no_fleet = harnessCli({"--params", kParams, "--design", "drives"});
+  EXPECT_EQ(no_fleet.code, 2);
+  EXPECT_NE(no_fleet.err.find("--design drives needs --vehicles and --profile"), std::string::npos) << no_fleet.err;
+  const CliResult stray = harnessCli({"--params", kParams, "--quick", "--checkpoints", "5"});
+  EXPECT_EQ(stray.code, 2);
+  EXPECT_NE(stray.err.find("--checkpoints is an option of --design drives only"), std::string::npos) << stray.err;
+  EXPECT_EQ(harnessCli({"--params", kParams, "--quick", "--effects", "rough_road"}).code, 2);
+  const CliResult few = harnessCli({"--params", kParams, "--design", "drives", "--vehicles",
+                                    kSource + "/config/vehicle_passenger_car.yaml", "--profile",
+                                    kSource + "/data/wltc_class3b.csv", "--checkpoints", "1"});
+  EXPECT_EQ(few.code, 2);
+  EXPECT_NE(few.err.find("checkpoints = 1 must be >= 2"), std::string::npos) << few.err;
 }
 
 // The documented example (examples/diagnosis/README.md) end to end through the command line: exit 0, the verdict

@@ -13,6 +13,9 @@
 ///   low_slip  table2 around 3 deg instead of 10 deg (sideslip group 1.5/3/6 deg; durations for the same lateral
 ///           sliding distance): small side forces, where an additive transducer noise is a large error ratio
 ///           (issue 26).
+///   drives  road drives of a fleet (ConcealSpec::fleet) measured at checkpoints on every wheel, each run a drive
+///           segment: conceal_drives.h. Hidden effects: a library term, or `rough_road` (kRoughRoadEffect), a
+///           road-surface dependence that no library term has; wear only (no side force on drives).
 /// Truth per case: w3_scale ~ exp(N(0, 0.15^2)) and mu_scale ~ exp(N(0, 0.04^2)) (the file's level is never
 /// exact), plus the hidden term at the requested magnitude. Covariates a rig records: tread temperature
 /// T = T_ambient(cycle) + 1.4 degC/W * Fy v sin(alpha) + N(0, 2^2) degC with T_ambient ~ 23 + N(0, 3^2) degC per
@@ -20,12 +23,14 @@
 /// unrelated humidity reading; the group label. Noise: side force + N(0, side_force_noise_n^2) [N], wear
 /// x (1 + N(0, wear_noise_rsd^2)).
 /// The hidden term's primary parameter is the magnitude (thermal_wear: sigma_T with T0 = 35 degC;
-/// load_fluctuation: the relative load std, with the truth load_std_scale = 1; turn_slip_orientation: none).
+/// load_fluctuation: the relative load std, with the truth load_std_scale = 1; turn_slip_orientation: none;
+/// rough_road: beta, neutral 0).
 
 #include <cstdint>
 #include <map>
 #include <string>
 
+#include "tread_wear/diagnosis/conceal_drives.h"
 #include "tread_wear/diagnosis/extensions.h"
 #include "tread_wear/io/run_table.h"
 
@@ -33,13 +38,14 @@ namespace tread_wear {
 namespace diagnosis {
 
 struct ConcealSpec {
-  std::string effect = "none";  ///< library name or "none"
+  std::string effect = "none";  ///< library name, "none", or (design drives) kRoughRoadEffect
   double magnitude = std::numeric_limits<double>::quiet_NaN();  ///< primary parameter; NaN = the default
-  std::string design = "table2";  ///< "table2", "small" or "low_slip"
+  std::string design = "table2";  ///< "table2", "small", "low_slip" or "drives"
   double wear_noise_rsd = 0.05;   ///< relative wear noise [-], >= 0
   double side_force_noise_n = 1.0;  ///< side-force noise [N], >= 0
   std::uint64_t seed = 1;
   ExtendedModelOptions model;     ///< preset and orientation of the generating model (the tools: `reference`)
+  DriveFleet fleet;               ///< the drive design's fleet and measurement plan (design drives only)
 
   bool validate(std::string* error) const;
 };
@@ -59,6 +65,11 @@ struct ConcealCase {
   RunTable noise_free;  ///< the same runs with the truth itself as measurements (detectability.h)
   ConcealAnswer answer;
 };
+
+/// Default magnitude of the drive design's rough_road effect: beta [-] (wear +-21% over the design's shares).
+constexpr double kRoughRoadDefaultBeta = 0.7;
+/// Name of rough_road's parameter beta in ConcealAnswer [-].
+constexpr const char* kRoughRoadBetaName = "rough_road_beta";
 
 /// Default magnitude of a term's primary parameter in generated cases; for a user-defined term (user_mechanisms.h)
 /// the last of its test magnitudes, NaN without them (ConcealSpec::magnitude is then needed).

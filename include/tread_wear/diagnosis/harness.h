@@ -21,6 +21,12 @@
 ///   empirical  (out-of-library cases, HarnessOptions::out_of_library) the diagnosis, whose library lacks the hidden
 ///              user-defined mechanism, gives an empirical term (empirical.h) in a covariate the mechanism reads,
 ///              with a lower held-out RMSER of the output it affects than the base model's
+/// Design `drives` (conceal_drives.h): the effects are thermal_wear and rough_road (HarnessOptions::effects may
+/// name either), diagnosed with the whole library. rough_road is in no library term: it is `right` when the
+/// diagnosis gives an empirical term in rough_road_share (the covariate the effect reads) with a lower held-out
+/// wear RMSER than the base model's (scored as `empirical` too, and as `improved`); its parameter is scored when the
+/// empirical term is linear (b of wear x (1 + b (x - m)) against beta). Each outcome also records the drive
+/// cells the diagnosis evaluated (ExtendedModel::evaluationPoints).
 /// The recordings are generated at HarnessOptions::generator's preset (default `reference`, the converged grid),
 /// finer than any preset the diagnosis chooses (auto goes up to `fine`), so that the solver's error is part of
 /// every proof; a harness that generated with the diagnosing preset could not see it.
@@ -69,17 +75,20 @@ struct HarnessOutcome {
   Detectability reference;   ///< detectability of the hidden term on this case's noise-free recordings
   double reference_parameter_ok = std::numeric_limits<double>::quiet_NaN();  ///< probability, see above [-]
   std::string reference_error;  ///< why the reference could not be computed (the verdict still counts)
-  double seconds = 0.0;
+  double seconds = 0.0;           ///< generation, diagnosis and scoring [s]
+  double diagnosis_seconds = 0.0; ///< the diagnosis alone [s]
+  std::size_t cells = 0;          ///< operating points the model evaluates per set of brush parameters [-]
   std::string error;  ///< non-empty when the case failed to run
 };
 
 struct HarnessOptions {
-  std::string design = "table2";
+  std::string design = "table2";  ///< a ConcealSpec design
+  DriveFleet fleet;               ///< the fleet of design drives
   int repeats = 5;                              ///< seeds per (effect, magnitude, noise), >= 1
   int control_repeats = 20;                     ///< no-effect controls per noise level, >= 0
   std::vector<double> wear_noise = {0.05, 0.10};  ///< wear RSD levels [-]
   double side_force_noise_n = 1.0;              ///< at wear RSD 5%; scaled with the wear noise level
-  std::vector<std::string> effects;             ///< empty = every library term
+  std::vector<std::string> effects;  ///< empty = every library term (design drives: thermal_wear and rough_road)
   bool two_magnitudes = true;                   ///< small and large magnitude (else the default only)
   int jobs = 1;                                 ///< worker threads
   bool information = false;                     ///< also each case's detectability reference (about a third more time)
