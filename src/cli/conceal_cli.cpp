@@ -59,6 +59,9 @@ int runConcealCli(int argc, const char* const argv[], std::ostream& out, std::os
   ConcealSpec spec;
   spec.effect = a.get("effect");
   spec.design = a.get("design", spec.design);
+  if (spec.design == "drives")
+    return usage("--design drives needs a fleet (vehicles, profile, checkpoints): tread_wear_diagnosis_harness "
+                 "--design drives generates and diagnoses those cases (docs/diagnosis.md, \"Drive-level cases\")");
   // The truth comes from the converged grid unless asked otherwise: finer than any preset a diagnosis chooses, so
   // that the solver's own error is part of every proof (issue 26).
   spec.model.preset = Preset::kReference;

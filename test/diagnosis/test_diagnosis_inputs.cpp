@@ -156,6 +156,10 @@ TEST(DiagnosisInputs, ConcealErrors) {
   EXPECT_EQ(concealCli({"--params", kParams, "--effect", "none", "--runs", "a.csv"}).code, 2);
   EXPECT_EQ(concealCli({"--params", kParams, "--effect", "none", "--runs", "a.csv", "--answer", "a.json",
                         "--design", "huge"}).code, 2);
+  const CliResult drives = concealCli(
+      {"--params", kParams, "--effect", "none", "--runs", "a.csv", "--answer", "a.json", "--design", "drives"});
+  EXPECT_EQ(drives.code, 2);
+  EXPECT_NE(drives.err.find("tread_wear_diagnosis_harness --design drives"), std::string::npos) << drives.err;
   EXPECT_EQ(
       concealCli({"--params", "/nonexistent.yaml", "--effect", "none", "--runs", "a.csv", "--answer", "a.json"}).code,
       1);
