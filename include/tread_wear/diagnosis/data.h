@@ -1,7 +1,8 @@
 #pragma once
 /// @file data.h
 /// The recordings the mismatch diagnosis works on: the runs of a run table (run_table.h) with the covariates
-/// derived from them. A run is one test run (rig) or one segment of a drive between mass checkpoints (bag).
+/// derived from them. A run is one test run (rig) or one wheel's segment of a drive between two measurement
+/// checkpoints (bag), which carries the operating points it integrates (drive_points).
 ///
 /// Derived per run (the sequence covariates the candidate terms need):
 ///   lateral sliding distance  L_s = distance |sin(alpha)|   (paper Eq 1; distance = distance_m, or
