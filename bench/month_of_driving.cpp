@@ -113,16 +113,11 @@ int run(int argc, const char* const argv[]) {
 
   // Depths: the diagnosis' own prediction of each segment with w3 x 1.1, plus the gauge error.
   RunTable table;
-  std::vector<std::vector<double>> loss_kg(wheels);
   for (int w = 0; w < wheels; ++w)
     for (const DriveSegment& s : segmenters[w]->finish()) {
-      RunRecord r;
-      r.op = s.mean;
+      RunRecord r = driveSegmentRecord(s);
       r.measured_wear_rate_kg_per_m = 1.0;
       r.condition_id = config.wheels[w].name + "/" + std::to_string(table.runs.size());
-      r.drive_points = s.points;
-      r.drive_time_s = s.integrated_s;
-      r.drive_distance_m = s.distance_m;
       table.runs.push_back(r);
     }
   const TireParams& tire = config.wheels.front().tire;

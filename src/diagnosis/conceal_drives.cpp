@@ -148,19 +148,10 @@ std::vector<DriveSegmentRuns> simulateDriveFleet(const DriveFleet& fleet, std::u
       const double segment_m = reps * seg.cycle_distance_m;
       for (int w = 0; w < kWheelCount; ++w) {
         const DriveSegment ds = segmenters[static_cast<std::size_t>(w)].finish().front();
-        RunRecord r;
-        r.op = ds.mean;
-        r.load_std_n = ds.load_std_n;
+        RunRecord r = driveSegmentRecord(ds, reps);
         r.condition_id = fleet.vehicles[v].name + "/" + std::to_string(s + 1);
         r.covariates = {ambient, rough_share, payload, speed_scale, accel_scale, (odometer_m + 0.5 * segment_m) / 1e3};
         r.text_covariates = {fleet.vehicles[v].name, wheelName(w)};
-        r.drive_points = ds.points;
-        for (WeightedOperatingPoint& p : r.drive_points) {
-          p.time_s *= reps;
-          p.distance_m *= reps;
-        }
-        r.drive_time_s = reps * ds.integrated_s;
-        r.drive_distance_m = reps * ds.distance_m;
         seg.runs.push_back(r);
         table->runs.push_back(r);
       }

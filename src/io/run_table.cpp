@@ -265,4 +265,18 @@ void writeRunTable(const RunTable& table, const std::string& path, const std::st
   if (!out) throw RunTableError(path + ": writing failed");
 }
 
+RunRecord driveSegmentRecord(const DriveSegment& segment, double repetitions) {
+  RunRecord r;
+  r.op = segment.mean;
+  r.load_std_n = segment.load_std_n;
+  r.drive_points = segment.points;
+  for (WeightedOperatingPoint& p : r.drive_points) {
+    p.time_s *= repetitions;
+    p.distance_m *= repetitions;
+  }
+  r.drive_time_s = repetitions * segment.integrated_s;
+  r.drive_distance_m = repetitions * segment.distance_m;
+  return r;
+}
+
 }  // namespace tread_wear

@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "tread_wear/estimation/drive_segments.h"
 #include "tread_wear/model/operating_point.h"
 
 namespace tread_wear {
@@ -56,6 +57,10 @@ class RunTableError : public std::runtime_error {
 
 /// Reads and validates a run table; an empty table is an error. @throw RunTableError
 RunTable readRunTable(const std::string& path);
+/// The record of a drive segment (estimation/drive_segments.h) driven `repetitions` times over: op = its means,
+/// its load std, its points and its integrated time and distance, every weight times `repetitions` [-], > 0.
+/// Measurements, labels and covariates are the caller's.
+RunRecord driveSegmentRecord(const DriveSegment& segment, double repetitions = 1.0);
 /// Writes a run table in format v1 (measured wear as wear_rate_kg_per_m).
 void writeRunTable(const RunTable& table, const std::string& path, const std::string& comment = "");
 

@@ -149,9 +149,7 @@ RunTable readDiagnosisBag(const std::string& path, const TireParams& tire, const
           throw std::runtime_error(where + (w.by_mass ? ": the mass did not decrease (" : ": the tread depth did not "
                                                                                          "decrease (mass equivalent ") +
                                    std::to_string(loss) + " kg)");
-        RunRecord r;
-        r.op = seg.mean;
-        r.load_std_n = seg.load_std_n;
+        RunRecord r = driveSegmentRecord(seg);
         // Side-force samples in [start, end): one stamped at a checkpoint belongs to the segment that starts there.
         double fy_sum = 0.0;
         int fy_n = 0;
@@ -171,9 +169,6 @@ RunTable readDiagnosisBag(const std::string& path, const TireParams& tire, const
         r.run_order = static_cast<int>(j + 1);
         r.covariates = {seg.distance_m, seg.end_s - seg.start_s, loss};
         r.text_covariates = {w.name};
-        r.drive_points = seg.points;
-        r.drive_time_s = seg.integrated_s;
-        r.drive_distance_m = seg.distance_m;
         if (!r.op.validate(&error)) throw std::runtime_error(where + ": " + error);
         table.runs.push_back(std::move(r));
       }
