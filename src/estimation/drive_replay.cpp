@@ -157,7 +157,6 @@ void DriveReplay::runWheel(int wheel, std::atomic<std::uint64_t>* progress) {
     r.preset = out.preset;
     r.evaluated = out.evaluated;
     r.integrated = out.integrated;
-    if (out.evaluated) r.op = operatingPoint(run.inputs, t, settings_.estimator.stale_timeout_s);
     if (progress != nullptr && ++unreported == kProgressBatch) {
       progress->fetch_add(unreported);
       unreported = 0;

@@ -82,11 +82,6 @@ int PointCells::add(const WeightedOperatingPoint& point) {
   return it->second;
 }
 
-int PointCells::find(const OperatingPoint& op) const {
-  const auto it = index_.find(key(op));
-  return it == index_.end() ? -1 : it->second;
-}
-
 std::vector<WeightedOperatingPoint> PointCells::points() const {
   std::vector<WeightedOperatingPoint> out;
   out.reserve(cells_.size());

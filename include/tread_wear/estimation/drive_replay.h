@@ -51,7 +51,6 @@ struct StepRecord {
   double wear_rate_kg_per_m, wear_rate_kg_per_s, accumulated_loss_kg, tread_depth_loss_m, remaining_tread_depth_m;
   double distance_m, stick_fraction, slide_fraction, exact_stick_fraction, fx_n, fy_n, mz_nm, unaccounted_time_s;
   double speed_mps;  ///< input speed used at this step [m/s] (0 when not evaluated)
-  OperatingPoint op;  ///< the inputs' operating point evaluated at this step (operatingPoint(); when evaluated)
   WheelStatus status;
   Preset preset;
   bool evaluated;

@@ -53,12 +53,8 @@ class PointCells {
   /// Adds a point; returns the index of its cell (cells are numbered in the order they first receive a point).
   /// Points with no weight are ignored (returns -1).
   int add(const WeightedOperatingPoint& point);
-  /// Index of the cell a point falls into, -1 if no point has fallen into it yet.
-  int find(const OperatingPoint& op) const;
   /// The cells as weighted points: each cell's summed weights at its centroid.
   std::vector<WeightedOperatingPoint> points() const;
-  std::size_t size() const { return cells_.size(); }
-  const PointCellParams& params() const { return params_; }
 
  private:
   using Key = std::array<std::int32_t, 6>;
