@@ -18,6 +18,13 @@ constexpr double kMaxUnaccountedShare = 0.01;
 /// Wheel-steps between progress counter updates (keeps the shared counter out of the inner loop) [-].
 constexpr std::uint64_t kProgressBatch = 256;
 
+/// |Fx| |kappa V_x| + |Fy| |V sin(alpha)| [W]: the brush forces on the rigid slip velocities (operating_point.h).
+double frictionPower(const WearResult& result, const WheelInputs& inputs) {
+  const double v = inputs.speed_mps(), alpha = inputs.slipAngle_rad();
+  return std::fabs(result.fx_n * inputs.slipRatio() * v * std::cos(alpha)) +
+         std::fabs(result.fy_n * v * std::sin(alpha));
+}
+
 }  // namespace
 
 struct DriveReplay::WheelRun {
@@ -38,8 +45,10 @@ bool ReplaySettings::validate(std::string* error) const {
     os << "max_span_s = " << max_span_s << ": must be finite and > 0";
   } else {
     std::string sub;
-    if (!model.validate(&sub)) os << "model." << sub;
-    else if (!estimator.validate(&sub)) os << "estimator." << sub;
+    if (!model.validate(&sub))
+      os << "model." << sub;
+    else if (!estimator.validate(&sub))
+      os << "estimator." << sub;
   }
   if (os.str().empty()) return true;
   if (error != nullptr) *error = os.str();
@@ -153,6 +162,7 @@ void DriveReplay::runWheel(int wheel, std::atomic<std::uint64_t>* progress) {
     r.mz_nm = out.result.mz_nm;
     r.unaccounted_time_s = run.estimator->unaccountedTime_s();
     r.speed_mps = out.evaluated ? run.inputs.speed_mps() : 0.0;
+    r.friction_power_w = out.evaluated ? frictionPower(out.result, run.inputs) : 0.0;
     r.status = out.status;
     r.preset = out.preset;
     r.evaluated = out.evaluated;
@@ -184,6 +194,7 @@ ReplaySummary DriveReplay::summarize(const std::vector<ProfilePhase>& phases, do
     ws.phase_loss_kg.assign(phases.size(), 0.0);
     double stick_sum = 0.0, slide_sum = 0.0;
     std::uint64_t evaluated = 0;
+    const double dt = 1.0 / settings_.update_rate_hz;
     for (std::size_t k = 0; k < run.records.size(); ++k) {
       const StepRecord& r = run.records[k];
       if (r.evaluated) {
@@ -192,6 +203,7 @@ ReplaySummary DriveReplay::summarize(const std::vector<ProfilePhase>& phases, do
         ++evaluated;
       }
       if (k == 0) continue;
+      if (r.integrated) ws.friction_work_j += 0.5 * (r.friction_power_w + run.records[k - 1].friction_power_w) * dt;
       const int phase = phaseIndexAt(phases, stepTime(k) - phase_time_offset_s);
       if (phase < 0) continue;
       ws.phase_loss_kg[static_cast<std::size_t>(phase)] +=

@@ -112,8 +112,11 @@ class Loader {
           {"w4", {{"w4_mg_per_s_mm2", units::kMilligramPerSecondSquareMillimetre}, {"w4_kg_per_s_m2", 1.0}},
            &w.w4_kg_per_s_m2},
           {"T0", dimensionless("T0_degC"), &w.t0_c},
-          {"sigma_T", dimensionless("sigma_T_degC"), &w.sigma_t_c}},
-         {"T0", "sigma_T"},
+          {"sigma_T", dimensionless("sigma_T_degC"), &w.sigma_t_c},
+          {"adhesion",
+           {{"adhesion_mg_per_kJ", units::kMilligramPerKilojoule}, {"adhesion_kg_per_J", 1.0}},
+           &w.adhesion_kg_per_j}},
+         {"T0", "sigma_T", "adhesion"},
          "temperature_enabled",
          &w.temperature_enabled},
         {"material", false,
@@ -301,7 +304,7 @@ void saveTireParams(const TireParams& params, const std::string& path, const std
       << "  w1: " << w.w1 << "\n  w2: " << w.w2 << "\n  w3_kg_per_s_m2: " << w.w3_kg_per_s_m2
       << "\n  w4_kg_per_s_m2: " << w.w4_kg_per_s_m2
       << "\n  temperature_enabled: " << (w.temperature_enabled ? "true" : "false") << "\n  T0_degC: " << w.t0_c
-      << "\n  sigma_T_degC: " << w.sigma_t_c << "\n";
+      << "\n  sigma_T_degC: " << w.sigma_t_c << "\n  adhesion_kg_per_J: " << w.adhesion_kg_per_j << "\n";
   const MaterialParams& m = params.material;
   out << "material:\n"
       << "  rubber_density_kg_per_m3: " << m.rubber_density_kg_per_m3 << "\n  tread_depth_m: " << m.tread_depth_m

@@ -33,6 +33,7 @@ nlohmann::json replaySummaryToJson(const ReplaySummary& summary, const ReplaySet
     jw["mg_per_km"] = w.mg_per_km;
     jw["stick_fraction_mean"] = w.stick_fraction_mean;
     jw["slide_fraction_mean"] = w.slide_fraction_mean;
+    jw["friction_work_j"] = w.friction_work_j;
     jw["unaccounted_time_s"] = w.unaccounted_time_s;
     jw["samples_received"] = w.samples_received;
     jw["samples_rejected"] = w.samples_rejected;

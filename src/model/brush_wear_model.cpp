@@ -113,6 +113,7 @@ Bdf2 bdf2Coefficients(double w) {
 BrushWearModel::BrushWearModel(const TireParams& params, const BrushOptions& options)
     : params_(params),
       options_(options),
+      adhesion_(params),
       friction_(params.friction),
       shift_saturation_(params.friction.q),
       advance_(march::fastestAdvance(options.max_simd_lanes)) {
@@ -130,9 +131,7 @@ BrushWearModel::BrushWearModel(const TireParams& params, const BrushOptions& opt
     entry_y_grid_ = makeYGrid(options.grid.entry_strips);
 }
 
-int BrushWearModel::strips() const {
-  return static_cast<int>(std::max(y_grid_.eta.size(), entry_y_grid_.eta.size()));
-}
+int BrushWearModel::strips() const { return static_cast<int>(std::max(y_grid_.eta.size(), entry_y_grid_.eta.size())); }
 
 BrushWearModel::YGrid BrushWearModel::makeYGrid(int n_strips) const {
   YGrid g;
@@ -217,13 +216,13 @@ namespace {
 
 /// Result of one implicit step of one element.
 struct NodeSolution {
-  double p;              ///< pressure [Pa]
-  double tx, ty;         ///< shear stress [Pa]
-  double vsx, vsy;       ///< sliding velocity [m/s]
-  double s, z;           ///< |v_s| [m/s] and ln|v_s| (0 when not sliding)
-  double mup, s_dmup;    ///< mu p [Pa] and |v_s| d(mu p)/d|v_s| [Pa] at the slide root
-  double wt;             ///< wear per time and area, Eq 19 [kg/(s m^2)]
-  bool stuck;            ///< exact stick (v_s = 0)
+  double p;            ///< pressure [Pa]
+  double tx, ty;       ///< shear stress [Pa]
+  double vsx, vsy;     ///< sliding velocity [m/s]
+  double s, z;         ///< |v_s| [m/s] and ln|v_s| (0 when not sliding)
+  double mup, s_dmup;  ///< mu p [Pa] and |v_s| d(mu p)/d|v_s| [Pa] at the slide root
+  double wt;           ///< wear per time and area, Eq 19 [kg/(s m^2)]
+  bool stuck;          ///< exact stick (v_s = 0)
 };
 
 /// Integrands of Eq 20 and of the area fractions at a node, or their weighted sums: tau_x, tau_y [Pa],
@@ -243,8 +242,8 @@ struct Integrands {
 };
 
 NodeSolution nodeOf(const march::NodeLanes& n, int j) {
-  return {n.p[j], n.tx[j], n.ty[j], n.vsx[j], n.vsy[j], n.s[j], n.z[j], n.mup[j], n.s_dmup[j], n.wt[j],
-          n.stuck[j] != 0.0};
+  return {n.p[j], n.tx[j],  n.ty[j],     n.vsx[j], n.vsy[j],         n.s[j],
+          n.z[j], n.mup[j], n.s_dmup[j], n.wt[j],  n.stuck[j] != 0.0};
 }
 
 /// The integrands of node solution o at x [m] on the strip with Mz lever arm y_mz [m]; stick by the paper's
@@ -690,6 +689,11 @@ void BrushWearModel::evaluate(const OperatingPoint& op, WearResult* result, Patc
   for (int i = 0; i < sweep.steps(); ++i) sweep.step(i);
   // Forces, aligning moment, wear rate (Eq 20) and the stick areas.
   sweep.results(result);
+  // The road extension: wear by micro-slip in the adhesion zone (adhesion_wear.h; off unless the tire file sets it).
+  if (!adhesion_.off()) {
+    result->wear_rate_kg_per_m += adhesion_.evaluate(op, patch, kinematics, rolling_speed).wear_kg_per_m;
+    result->wear_rate_kg_per_s = result->wear_rate_kg_per_m * op.speed_mps;
+  }
 }
 
 }  // namespace tread_wear

@@ -70,6 +70,7 @@ bool TreadParams::validate(std::string* error) const {
 bool WearLawParams::validate(std::string* error) const {
   Checker c("wear.", error);
   c.nonNegative("w1", w1).nonNegative("w2", w2).nonNegative("w3", w3_kg_per_s_m2).nonNegative("w4", w4_kg_per_s_m2);
+  c.nonNegative("adhesion", adhesion_kg_per_j);
   if (temperature_enabled) {
     c.require(std::isfinite(t0_c), "T0", t0_c, "finite").require(sigma_t_c != 0.0, "sigma_T", sigma_t_c, "!= 0");
   }

@@ -24,14 +24,14 @@ namespace {
 // State layout. CVODE 6 has no quadrature API (CVodeQuad* belongs to CVODES, which cannot be linked
 // next to CVODE: both export the same symbols), so the path integrals are appended to the state
 // vector. They enter the local error test exactly as quadratures with CVodeSetQuadErrCon would.
-constexpr int kDx = 0, kDy = 1;        // tip deflection delta [m]
-constexpr int kVsx = 2, kVsy = 3;      // sliding velocity v_s [m/s], slide mode only (0 in stick)
-constexpr int kQx = 4, kQy = 5;        // integral tau_x dx, integral tau_y dx [N/m]
-constexpr int kQxTauY = 6;             // integral x tau_y dx [N]
-constexpr int kQWear = 7;              // integral (w_r V) dx [kg/(s m)]
-constexpr int kStates = 4;             // element states (Jacobian columns)
+constexpr int kDx = 0, kDy = 1;    // tip deflection delta [m]
+constexpr int kVsx = 2, kVsy = 3;  // sliding velocity v_s [m/s], slide mode only (0 in stick)
+constexpr int kQx = 4, kQy = 5;    // integral tau_x dx, integral tau_y dx [N/m]
+constexpr int kQxTauY = 6;         // integral x tau_y dx [N]
+constexpr int kQWear = 7;          // integral (w_r V) dx [kg/(s m)]
+constexpr int kStates = 4;         // element states (Jacobian columns)
 constexpr int kSize = 8;
-constexpr int kRoots = 2;              // 0: mode event, 1: |v_s| = v_m
+constexpr int kRoots = 2;  // 0: mode event, 1: |v_s| = v_m
 
 enum class Mode { kStick, kSlide };
 
@@ -66,13 +66,20 @@ void shoulderMappedGaussLegendre(int n, int map_order, std::vector<double>* eta,
     const double xi = (*eta)[j], q = 1.0 - xi * xi;
     double mapped = xi, dphi = 1.0;
     switch (map_order) {
-      case 1: mapped = 0.5 * xi * (3.0 - xi * xi); dphi = 1.5 * q; break;
-      case 2: mapped = xi * (15.0 - 10.0 * xi * xi + 3.0 * std::pow(xi, 4)) / 8.0; dphi = 15.0 / 8.0 * q * q; break;
+      case 1:
+        mapped = 0.5 * xi * (3.0 - xi * xi);
+        dphi = 1.5 * q;
+        break;
+      case 2:
+        mapped = xi * (15.0 - 10.0 * xi * xi + 3.0 * std::pow(xi, 4)) / 8.0;
+        dphi = 15.0 / 8.0 * q * q;
+        break;
       case 3:
         mapped = xi * (35.0 - 35.0 * xi * xi + 21.0 * std::pow(xi, 4) - 5.0 * std::pow(xi, 6)) / 16.0;
         dphi = 35.0 / 16.0 * q * q * q;
         break;
-      default: break;
+      default:
+        break;
     }
     (*eta)[j] = mapped;
     (*weight)[j] *= dphi;
@@ -460,8 +467,8 @@ struct ReferenceBrushSolver::Workspace {
   }
   /// Difference-quotient Jacobian over the element states only: the path integrals do not feed
   /// back, so their columns are zero and a full dense difference quotient would waste half its work.
-  static int jacCallback(realtype t, N_Vector y, N_Vector fy, SUNMatrix J, void* user, N_Vector tmp1,
-                         N_Vector tmp2, N_Vector) {
+  static int jacCallback(realtype t, N_Vector y, N_Vector fy, SUNMatrix J, void* user, N_Vector tmp1, N_Vector tmp2,
+                         N_Vector) {
     Workspace* ws = static_cast<Workspace*>(user);
     SUNMatZero(J);
     double* yp = N_VGetArrayPointer(tmp1);
@@ -494,7 +501,7 @@ struct ReferenceBrushSolver::Workspace {
 };
 
 ReferenceBrushSolver::ReferenceBrushSolver(const TireParams& params, const ReferenceSolverOptions& options)
-    : params_(params), options_(options), ws_(std::make_unique<Workspace>()) {
+    : params_(params), options_(options), adhesion_(params), ws_(std::make_unique<Workspace>()) {
   std::string error;
   if (!params.validate(&error)) throw std::invalid_argument("invalid tire parameters: " + error);
   if (!options.validate(&error)) throw std::invalid_argument("invalid reference solver options: " + error);
@@ -568,6 +575,8 @@ void ReferenceBrushSolver::evaluate(const OperatingPoint& op, WearResult* result
     fast_area += dy * w.Vr * w.strip.fast_len;
   }
   stats_.rhs_evals = w.rhs_evals;
+  // The adhesion-zone term is closed-form over the patch (model/adhesion_wear.h), the same in both solvers.
+  wear_t += adhesion_.evaluate(op, w.patch, w.kin, w.Vr).wear_kg_per_m * op.speed_mps;
 
   const double area = w.patch.area();
   result->fx_n = fx;

@@ -23,9 +23,12 @@ constexpr double kMaxSlipUtilisation = 0.5;
 
 const char* driveLayoutName(DriveLayout layout) {
   switch (layout) {
-    case DriveLayout::kFront: return "front";
-    case DriveLayout::kRear: return "rear";
-    case DriveLayout::kAll: return "all";
+    case DriveLayout::kFront:
+      return "front";
+    case DriveLayout::kRear:
+      return "rear";
+    case DriveLayout::kAll:
+      return "all";
   }
   return "unknown";
 }
@@ -99,12 +102,15 @@ void VehicleModel::evaluate(const VehicleMotion& motion, VehicleState* state) co
   const double kappa = motion.path_curvature_per_m;
   const double a_y = v * v * kappa;
   const double rolling_ramp = std::min(1.0, v / kRollingRampSpeed_mps);
-  // Weight normal to and along the road (grade 0: m g and 0 exactly, so the flat-road results are unchanged).
-  const double normal_weight = m * g * std::cos(motion.grade_rad);
+  // Weight normal to and along the road (grade 0, bank 0: m g and 0 exactly, so the flat-road results are unchanged).
+  const double cos_bank = std::cos(motion.bank_rad), sin_bank = std::sin(motion.bank_rad);
+  const double normal_weight = m * g * std::cos(motion.grade_rad) * cos_bank + m * a_y * sin_bank;
   const double grade_force = m * g * std::sin(motion.grade_rad);
+  // Specific side force the tires carry in the road plane: a bank towards the inside of the turn relieves them.
+  const double a_y_road = a_y * cos_bank - g * std::cos(motion.grade_rad) * sin_bank;
 
   const double f_aero = 0.5 * p.air_density_kg_per_m3 * p.drag_coefficient * p.frontal_area_m2 * v * v;
-  const double f_roll = p.rolling_resistance_coefficient * m * g * std::cos(motion.grade_rad) * rolling_ramp;
+  const double f_roll = p.rolling_resistance_coefficient * normal_weight * rolling_ramp;
   const double demand = m * motion.accel_mps2 + f_aero + f_roll + grade_force;
   state->lateral_accel_mps2 = a_y;
   state->force_demand_n = demand;
@@ -113,14 +119,14 @@ void VehicleModel::evaluate(const VehicleMotion& motion, VehicleState* state) co
   const double dfz_long = (m * motion.accel_mps2 + f_aero + grade_force) * h / L;
   const double fz_front = normal_weight * l_r / L - dfz_long;
   const double fz_rear = normal_weight * l_f / L + dfz_long;
-  const double dfz_front = m * a_y * h * p.front_roll_stiffness_share / p.track_front_m;
-  const double dfz_rear = m * a_y * h * (1.0 - p.front_roll_stiffness_share) / p.track_rear_m;
+  const double dfz_front = m * a_y_road * h * p.front_roll_stiffness_share / p.track_front_m;
+  const double dfz_rear = m * a_y_road * h * (1.0 - p.front_roll_stiffness_share) / p.track_rear_m;
   std::array<double, kWheelCount> fz = {0.5 * fz_front - dfz_front, 0.5 * fz_front + dfz_front,
                                         0.5 * fz_rear - dfz_rear, 0.5 * fz_rear + dfz_rear};
   for (double& load : fz) load = std::max(load, 0.0);
 
   // Steady-state single track: axle side forces and linear axle slip angles.
-  const double fy_front = m * a_y * l_r / L, fy_rear = m * a_y * l_f / L;
+  const double fy_front = m * a_y_road * l_r / L, fy_rear = m * a_y_road * l_f / L;
   const double axle_front = fz[kFrontLeft] + fz[kFrontRight], axle_rear = fz[kRearLeft] + fz[kRearRight];
   const double alpha_front = axle_front > 0.0 ? -fy_front / (p.cornering_stiffness_front_per_rad * axle_front) : 0.0;
   const double alpha_rear = axle_rear > 0.0 ? -fy_rear / (p.cornering_stiffness_rear_per_rad * axle_rear) : 0.0;
@@ -138,7 +144,7 @@ void VehicleModel::evaluate(const VehicleMotion& motion, VehicleState* state) co
   // Longitudinal shares of the force demand: drive torque by layout, brake torque by balance.
   double front_share = p.brake_balance_front;
   if (demand > 0.0) {
-    front_share = p.drive_layout == DriveLayout::kFront ? 1.0
+    front_share = p.drive_layout == DriveLayout::kFront  ? 1.0
                   : p.drive_layout == DriveLayout::kRear ? 0.0
                                                          : p.all_wheel_front_drive_share;
   }

@@ -1,5 +1,5 @@
-// The vehicle model on a grade (vehicle_model.h): balances along and normal to the road written out independently
-// of the implementation's algebra, and the flat road as the grade-zero case.
+// The vehicle model on a grade and a bank (vehicle_model.h): balances along and normal to the road written out
+// independently of the implementation's algebra, and the flat road as the grade-zero case.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -65,6 +65,44 @@ TEST(VehicleModelGrade, DeceleratingAtTheGradesRateNeedsOnlyTheResistances) {
   model.evaluate({20.0, 0.0, 0.0, 0.0}, &flat);
   const double rolling_flat = p.rolling_resistance_coefficient * p.mass_kg * p.gravity_mps2;
   EXPECT_NEAR(grade.force_demand_n, flat.force_demand_n - rolling_flat * (1.0 - std::cos(theta)), kForceTol_n);
+}
+
+TEST(VehicleModelBank, AtTheNeutralSpeedTheTiresCarryNoSideForce) {
+  // A turn banked towards its inside, driven at the speed where v^2 kappa = g tan(phi): the road's normal force alone
+  // supplies the centripetal force (written from the free-body diagram, not from the implementation's algebra). No
+  // side force, no lateral load transfer, no slip angle; the normal loads add up to m g / cos(phi).
+  const VehicleParams p;
+  const VehicleModel model(p);
+  const double phi = 0.3, radius = 100.0, g = p.gravity_mps2;
+  const double v = std::sqrt(g * std::tan(phi) * radius);
+  VehicleState s;
+  model.evaluate({v, 0.0, 1.0 / radius, 0.0, phi}, &s);
+  double load = 0.0;
+  for (const WheelState& w : s.wheels) {
+    load += w.load_n;
+    EXPECT_NEAR(w.fy_demand_n, 0.0, kForceTol_n);
+  }
+  EXPECT_NEAR(load, p.mass_kg * g / std::cos(phi), kForceTol_n);
+  EXPECT_NEAR(s.wheels[kFrontLeft].load_n, s.wheels[kFrontRight].load_n, kForceTol_n);
+  EXPECT_NEAR(s.wheels[kRearLeft].load_n, s.wheels[kRearRight].load_n, kForceTol_n);
+  EXPECT_NEAR(s.wheels[kFrontLeft].slip_angle_rad, 0.0, 1e-12);
+}
+
+TEST(VehicleModelBank, OnAStraightTheCrossfallPullsDownhill) {
+  // Straight, left edge lower: the tires hold the car against the slope with m g sin(phi) to the right (negative),
+  // and the road presses with m g cos(phi).
+  const VehicleParams p;
+  const VehicleModel model(p);
+  const double phi = 0.05;
+  VehicleState s;
+  model.evaluate({20.0, 0.0, 0.0, 0.0, phi}, &s);
+  double fy = 0.0, load = 0.0;
+  for (const WheelState& w : s.wheels) {
+    fy += w.fy_demand_n;
+    load += w.load_n;
+  }
+  EXPECT_NEAR(fy, -p.mass_kg * p.gravity_mps2 * std::sin(phi), kForceTol_n);
+  EXPECT_NEAR(load, p.mass_kg * p.gravity_mps2 * std::cos(phi), kForceTol_n);
 }
 
 }  // namespace

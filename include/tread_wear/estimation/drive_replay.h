@@ -27,10 +27,10 @@ namespace tread_wear {
 
 /// Estimation settings shared by all wheels (the node's config keys of the same names).
 struct ReplaySettings {
-  double update_rate_hz = 100.0;  ///< fixed step rate [Hz], > 0
-  WearModelOptions model;         ///< preset, turn-slip orientation, low-speed threshold
+  double update_rate_hz = 100.0;   ///< fixed step rate [Hz], > 0
+  WearModelOptions model;          ///< preset, turn-slip orientation, low-speed threshold
   WheelEstimatorParams estimator;  ///< staleness, time jumps, input limits
-  int threads = 2;                ///< worker threads (one wheel per thread at a time), >= 1
+  int threads = 2;                 ///< worker threads (one wheel per thread at a time), >= 1
   /// Longest bag time span replayed [s], > 0. Every wheel's step records are allocated for the whole span (6 h at
   /// 100 Hz: about 1 GB for 4 wheels), so one corrupt time stamp must not ask for terabytes: run() refuses a
   /// longer span with an error that names the largest gap between a wheel's samples.
@@ -51,6 +51,9 @@ struct StepRecord {
   double wear_rate_kg_per_m, wear_rate_kg_per_s, accumulated_loss_kg, tread_depth_loss_m, remaining_tread_depth_m;
   double distance_m, stick_fraction, slide_fraction, exact_stick_fraction, fx_n, fy_n, mz_nm, unaccounted_time_s;
   double speed_mps;  ///< input speed used at this step [m/s] (0 when not evaluated)
+  /// Friction-work rate of the step's forces on the rigid slip velocities, |Fx| |kappa V_x| + |Fy| |V sin(alpha)|
+  /// [W] (0 when not evaluated): the friction-work wear models' quantity (docs/measured_road_wear.md)
+  double friction_power_w;
   WheelStatus status;
   Preset preset;
   bool evaluated;
@@ -61,6 +64,7 @@ struct WheelSummary {
   std::string name;
   double mass_loss_kg = 0.0, distance_m = 0.0, mg_per_km = 0.0;
   double stick_fraction_mean = 0.0, slide_fraction_mean = 0.0;  ///< over evaluated steps [-]
+  double friction_work_j = 0.0;  ///< friction_power_w integrated over the integrated intervals (trapezoid) [J]
   double unaccounted_time_s = 0.0;
   std::uint64_t samples_received = 0, samples_rejected = 0, evaluations = 0, time_jumps = 0;
   std::vector<double> phase_loss_kg;  ///< per phase of ReplaySummary::phases [kg]

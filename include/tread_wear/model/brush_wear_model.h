@@ -13,6 +13,8 @@
 ///   slide with tau = -mu(|v_s|, p) p v_s/|v_s|            (Eqs 10, 18 with friction opposing slip)
 ///   w_r = (w4 + w3 (|tau|/1 MPa)^w1 (|v_s|/1 m/s)^w2) / V  (Eq 19, per unit area and distance)
 ///   W_r = integral w_r dA,  Fx, Fy = integral tau dA,  Mz = integral (x tau_y - y tau_x) dA  (Eq 20)
+///   plus, where the tire file sets its coefficient, the adhesion zone's micro-slip wear (adhesion_wear.h; not in
+///   the paper: the road extension; it changes W_r only, not the forces or the local fields)
 /// Elements enter relaxed (delta = 0) and at rest relative to the wheel (u = 0) unless
 /// BrushOptions::enter_at_road_velocity; they leave with their residual deflection.
 ///
@@ -61,6 +63,7 @@
 #include <string>
 #include <vector>
 
+#include "tread_wear/model/adhesion_wear.h"
 #include "tread_wear/model/contact_patch.h"
 #include "tread_wear/model/friction.h"
 #include "tread_wear/model/operating_point.h"
@@ -77,7 +80,7 @@ struct RootCounts;
 
 /// Lateral quadrature rule across the width y/b in [-1, 1].
 enum class LateralRule {
-  kSineMidpoint,  ///< midpoints of n equal cells in t, mapped y/b = sin(pi t/2) (clusters at the shoulders)
+  kSineMidpoint,        ///< midpoints of n equal cells in t, mapped y/b = sin(pi t/2) (clusters at the shoulders)
   kGaussLegendre,       ///< Gauss-Legendre nodes and weights (also clustered at the shoulders)
   kGaussShoulderPanels  ///< Gauss-Legendre on three panels per half, two of them in the pressure's shoulder band
 };
@@ -114,12 +117,12 @@ struct GridSpec {
 /// fields stay on the coarse grid. Off with max_level = 0 (a fixed grid).
 struct RefinementOptions {
   static constexpr int kMaxLevel = 8;  ///< bound of max_level
-  int max_level = 0;              ///< at most 2^max_level substeps per x step [-], 0..kMaxLevel; the model
-                                  ///< keeps 2 (2^max_level - 1) doubles per x step for the substep nodes
-  int node_budget = 0;            ///< substep nodes allowed per evaluation, bounds the extra work [-]
-  double resolution = 0.5;        ///< target rate * substep duration [-]
-  double damping_ratio = 0.0;     ///< refine below this ratio of effective to critical damping [-]
-                                  ///< (0: only unstable sliding, c + d(mu p)/d|v_s| < 0)
+  int max_level = 0;                   ///< at most 2^max_level substeps per x step [-], 0..kMaxLevel; the model
+                                       ///< keeps 2 (2^max_level - 1) doubles per x step for the substep nodes
+  int node_budget = 0;                 ///< substep nodes allowed per evaluation, bounds the extra work [-]
+  double resolution = 0.5;             ///< target rate * substep duration [-]
+  double damping_ratio = 0.0;          ///< refine below this ratio of effective to critical damping [-]
+                                       ///< (0: only unstable sliding, c + d(mu p)/d|v_s| < 0)
 
   bool validate(std::string* error) const;
 };
@@ -162,15 +165,15 @@ struct WearResult {
 /// Local fields on the grid (node-major: index = i * n_strips + j, i along x from the leading edge).
 struct PatchFields {
   int n_x_nodes = 0;
-  int n_strips = 0;  ///< strips of the last evaluation's grid (at most the y_m.size() that resize() set)
-  std::vector<double> x_m;              ///< node x [m], size n_x_nodes
-  std::vector<double> y_m;              ///< strip centre y [m], size n_strips
-  std::vector<double> pressure_pa;      ///< p [Pa]
-  std::vector<double> tau_x_pa, tau_y_pa;        ///< shear stress [Pa]
-  std::vector<double> v_sx_mps, v_sy_mps;        ///< sliding velocity [m/s]
-  std::vector<double> delta_x_m, delta_y_m;      ///< tip deflection [m]
-  std::vector<double> wear_kg_per_m3;   ///< local wear rate w_r per area and distance [kg/(m m^2)]
-  std::vector<unsigned char> state;     ///< 0 exact stick, 1 creep (0 < |v_s| <= v_m), 2 slide (|v_s| > v_m)
+  int n_strips = 0;                 ///< strips of the last evaluation's grid (at most the y_m.size() that resize() set)
+  std::vector<double> x_m;          ///< node x [m], size n_x_nodes
+  std::vector<double> y_m;          ///< strip centre y [m], size n_strips
+  std::vector<double> pressure_pa;  ///< p [Pa]
+  std::vector<double> tau_x_pa, tau_y_pa;    ///< shear stress [Pa]
+  std::vector<double> v_sx_mps, v_sy_mps;    ///< sliding velocity [m/s]
+  std::vector<double> delta_x_m, delta_y_m;  ///< tip deflection [m]
+  std::vector<double> wear_kg_per_m3;        ///< local wear rate w_r per area and distance [kg/(m m^2)]
+  std::vector<unsigned char> state;          ///< 0 exact stick, 1 creep (0 < |v_s| <= v_m), 2 slide (|v_s| > v_m)
 
   void resize(int nx, int ny);
   int index(int i, int j) const { return i * n_strips + j; }
@@ -201,11 +204,11 @@ class BrushWearModel {
  private:
   /// Per x step (from node i to node i+1), grid-only quantities.
   struct Step {
-    double ds;     ///< s_i - s_{i+1} [-]
-    double a1;     ///< BDF2 coefficient on the state at node i [-]
-    double a2;     ///< BDF2 coefficient on the state at node i-1 [-]
-    double beta;   ///< BDF2 coefficient on the step (g = beta h) [-]
-    double w;      ///< step ratio h_i / h_{i-1} [-] (1 on the first step)
+    double ds;    ///< s_i - s_{i+1} [-]
+    double a1;    ///< BDF2 coefficient on the state at node i [-]
+    double a2;    ///< BDF2 coefficient on the state at node i-1 [-]
+    double beta;  ///< BDF2 coefficient on the step (g = beta h) [-]
+    double w;     ///< step ratio h_i / h_{i-1} [-] (1 on the first step)
   };
   /// Grid-only quantities along x.
   struct XGrid {
@@ -216,7 +219,7 @@ class BrushWearModel {
     /// gx_even and gx_even^-q at the interior substep nodes of the finest refinement level, 2^max_level - 1
     /// per step (index step * (2^max_level - 1) + m - 1 for the m-th); coarser levels use every 2^k-th.
     std::vector<double> sub_gx_even, sub_sat_gx;
-    std::vector<Step> steps;      ///< per-step BDF2 coefficients
+    std::vector<Step> steps;  ///< per-step BDF2 coefficients
   };
   XGrid makeXGrid(double leading_grading) const;
   /// Grid-only quantities across y (the strips).
@@ -236,13 +239,14 @@ class BrushWearModel {
 
   TireParams params_;
   BrushOptions options_;
+  AdhesionWear adhesion_;  ///< the road extension's adhesion-zone term (off when its coefficient is 0)
   SavkoorFriction friction_;
   ShiftSaturation shift_saturation_;  ///< (1 - B x/a)^-q, the centre shift's factor of sat(p)
-  PressureShape gx_;               ///< g_x without the centre shift (its even part)
-  XGrid x_grid_;                   ///< edge_grading at both edges
-  XGrid entry_x_grid_;             ///< entry_grading at the leading edge (when the entry grid is on)
-  YGrid y_grid_;                   ///< n_strips
-  YGrid entry_y_grid_;             ///< entry_strips (empty when the entry grid keeps n_strips)
+  PressureShape gx_;                  ///< g_x without the centre shift (its even part)
+  XGrid x_grid_;                      ///< edge_grading at both edges
+  XGrid entry_x_grid_;                ///< entry_grading at the leading edge (when the entry grid is on)
+  YGrid y_grid_;                      ///< n_strips
+  YGrid entry_y_grid_;                ///< entry_strips (empty when the entry grid keeps n_strips)
   /// The x step of the strips side by side: packs of strips in SIMD lanes where the CPU allows
   /// (chosen once, here), else one strip after the other.
   void (*advance_)(const march::StepArgs&, int first, int count, const march::PathState& from, march::PathState* to,

@@ -66,6 +66,8 @@ struct WearLawParams {
   bool temperature_enabled = false;    ///< apply Eq 25 when a tread temperature is known
   double t0_c = 47.17;                 ///< Eq 25 reference temperature T_0 [degC] (Table 5, Opt_T)
   double sigma_t_c = 57.98;            ///< Eq 25 temperature width sigma_T [degC] (Table 5, Opt_T)
+  /// K_a, wear per micro-slip work in the adhesion zone [kg/J], >= 0 (adhesion_wear.h; not in the paper: 0 = off)
+  double adhesion_kg_per_j = 0.0;
 
   bool validate(std::string* error) const;
   /// Eq 25 factor on w3 for tread temperature T [degC]; 1 when disabled or T is not finite.

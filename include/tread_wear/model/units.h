@@ -31,6 +31,8 @@ constexpr double kMegapascalSecondSquaredPerMillimetre = kMegapascal / kMillimet
 constexpr double kMilligramPerSecondSquareMillimetre = kMilligram / (kMillimetre * kMillimetre);
 /// Global wear-rate coefficient (Eq 26 reference models): mg/s -> kg/s.
 constexpr double kMilligramPerSecond = kMilligram;
+/// Abrasion per friction work (adhesion_wear.h; the friction-work models' unit): mg/kJ -> kg/J.
+constexpr double kMilligramPerKilojoule = kMilligram / 1e3;
 
 }  // namespace units
 }  // namespace tread_wear

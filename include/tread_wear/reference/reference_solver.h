@@ -57,6 +57,7 @@
 #include <memory>
 #include <string>
 
+#include "tread_wear/model/adhesion_wear.h"
 #include "tread_wear/model/brush_wear_model.h"
 #include "tread_wear/model/operating_point.h"
 #include "tread_wear/model/tire_params.h"
@@ -64,17 +65,17 @@
 namespace tread_wear {
 
 struct ReferenceSolverOptions {
-  int n_strips = 24;                     ///< Gauss-Legendre nodes across the width [-], 1..256
-  int lateral_map_order = 1;             ///< k of the shoulder map eta = phi(xi), phi' ~ (1 - xi^2)^k [-], 0..3
-  double rel_tol = 1e-8;                 ///< CVODE relative tolerance (states and quadratures) [-], (0, 1e-3]
-  double abs_tol_factor = 1e-3;          ///< absolute tolerance = rel_tol * factor * natural scale [-], > 0
-  double stop_speed_mps = 1e-8;          ///< below this |v_s| a slider may stick again [m/s], (0, 1e-6]
-  double start_speed_mps = 1e-12;        ///< |v_s| with which slip starts from stick [m/s], < stop speed
-  double static_tolerance = 1e-8;        ///< eps_static, relative slack of the static disc [-], [0, 1e-6]
-  long max_steps = 500000;               ///< CVODE steps allowed per integration leg [-], >= 100
-  int max_events_per_strip = 10000;      ///< mode switches and restarts allowed per strip [-], >= 10
+  int n_strips = 24;                 ///< Gauss-Legendre nodes across the width [-], 1..256
+  int lateral_map_order = 1;         ///< k of the shoulder map eta = phi(xi), phi' ~ (1 - xi^2)^k [-], 0..3
+  double rel_tol = 1e-8;             ///< CVODE relative tolerance (states and quadratures) [-], (0, 1e-3]
+  double abs_tol_factor = 1e-3;      ///< absolute tolerance = rel_tol * factor * natural scale [-], > 0
+  double stop_speed_mps = 1e-8;      ///< below this |v_s| a slider may stick again [m/s], (0, 1e-6]
+  double start_speed_mps = 1e-12;    ///< |v_s| with which slip starts from stick [m/s], < stop speed
+  double static_tolerance = 1e-8;    ///< eps_static, relative slack of the static disc [-], [0, 1e-6]
+  long max_steps = 500000;           ///< CVODE steps allowed per integration leg [-], >= 100
+  int max_events_per_strip = 10000;  ///< mode switches and restarts allowed per strip [-], >= 10
   TurnSlipOrientation orientation = TurnSlipOrientation::kLiteral;
-  bool enter_at_road_velocity = false;   ///< leading-edge alternative of the model spec (u = v_r)
+  bool enter_at_road_velocity = false;  ///< leading-edge alternative of the model spec (u = v_r)
 
   /// Names the first invalid field, its value and the broken constraint.
   bool validate(std::string* error) const;
@@ -82,9 +83,9 @@ struct ReferenceSolverOptions {
 
 /// Counters of the last evaluation (for the convergence study and for tests).
 struct ReferenceSolverStats {
-  long steps = 0;         ///< CVODE steps over all strips
-  long rhs_evals = 0;     ///< right-hand-side evaluations (including Jacobian difference quotients)
-  int events = 0;         ///< mode switches and restarts over all strips
+  long steps = 0;            ///< CVODE steps over all strips
+  long rhs_evals = 0;        ///< right-hand-side evaluations (including Jacobian difference quotients)
+  int events = 0;            ///< mode switches and restarts over all strips
   int max_events_strip = 0;  ///< worst strip
 };
 
@@ -115,6 +116,7 @@ class ReferenceBrushSolver {
   struct Workspace;  ///< CVODE memory, vectors and the per-strip context
   TireParams params_;
   ReferenceSolverOptions options_;
+  AdhesionWear adhesion_;
   ReferenceSolverStats stats_;
   std::unique_ptr<Workspace> ws_;
 };

@@ -7,15 +7,21 @@
 ///   lateral acceleration   a_y = v^2 kappa,  yaw rate r = v kappa  (kappa of the CoG path, > 0 left)
 ///   grade                  theta > 0 uphill: the weight's component m g sin(theta) along the road acts at the CoG
 ///                          like an inertial force, m g cos(theta) presses the wheels on the road (theta = 0: flat)
-///   driving resistances    F_aero = rho/2 c_d A v^2,  F_roll = f_r m g cos(theta) ramp(v)  (ramp = min(1, v/0.5 m/s):
+///   bank (crossfall)       phi > 0 when the road's left edge is lower. The path curvature is horizontal, so in the
+///                          road plane the tires carry the specific side force a_y,road = a_y cos(phi) - g cos(theta)
+///                          sin(phi) (a bank towards the inside of a turn relieves them) and the road presses with
+///                          m (g cos(theta) cos(phi) + a_y sin(phi)); a_y,road sets the side forces and the lateral
+///                          load transfer below (phi = 0: a_y,road = a_y exactly)
+///   driving resistances    F_aero = rho/2 c_d A v^2,  F_roll = f_r N ramp(v) (N the road normal force, ramp = min(1,
+///   v/0.5 m/s):
 ///                          no rolling resistance at standstill)
 ///   force demand           F = m a_x + F_aero + F_roll + m g sin(theta) (> 0 drive torque, < 0 brake torque)
-///   axle loads             m g cos(theta) l_r / L - dFz_x (front),  m g cos(theta) l_f / L + dFz_x (rear)
+///   axle loads             N l_r / L - dFz_x (front),  N l_f / L + dFz_x (rear)
 ///   longitudinal transfer  dFz_x = (m a_x + F_aero + m g sin(theta)) h / L  (drag and grade force at CoG height;
 ///                          front loses it)
-///   lateral transfer       dFz_f = m a_y h lambda_f / t_f,  dFz_r = m a_y h (1 - lambda_f) / t_r
+///   lateral transfer       dFz_f = m a_y,road h lambda_f / t_f,  dFz_r = m a_y,road h (1 - lambda_f) / t_r
 ///                          (roll-stiffness share lambda_f, no roll-centre heights; outer wheels gain it)
-///   axle side forces       Fy_f = m a_y l_r / L,  Fy_r = m a_y l_f / L  (steady-state single track)
+///   axle side forces       Fy_f = m a_y,road l_r / L,  Fy_r = m a_y,road l_f / L  (steady-state single track)
 ///   axle slip angles       alpha_axle = -Fy_axle / (c_alpha Fz_axle)  (linear, cornering stiffness
 ///                          proportional to axle load; ISO sign: a left force needs alpha < 0)
 ///   wheel kinematics       rigid body turning about its instant centre: wheel velocity v_CoG + r x p_i,
@@ -28,8 +34,9 @@
 ///                          u = Fx_i/(c_kappa Fz_i), saturated at |u| <= 0.5 (far beyond normal driving).
 /// Symbols: m mass, g gravity, L wheelbase, l_f/l_r CoG to front/rear axle, h CoG height, t_f/t_r tracks.
 /// Sign conventions: ISO 8855 (x forward, y left, z up), as operating_point.h.
-/// Limits: no aerodynamic lift, no banking, no change of grade along the wheelbase, no combined-slip coupling in the slip estimates, no
-/// transient tire lag; slip estimates are linear, the brush model (WearModel) then gives the actual forces.
+/// Limits: no aerodynamic lift, no change of bank or grade along the wheelbase, no combined-slip coupling in the slip
+/// estimates, no transient tire lag; slip estimates are linear, the brush model (WearModel) then gives the actual
+/// forces.
 
 #include <array>
 #include <string>
@@ -43,24 +50,24 @@ bool parseDriveLayout(const std::string& name, DriveLayout* layout);
 
 struct VehicleParams {
   std::string name = "passenger_car";
-  double mass_kg = 1450.0;                    ///< m, vehicle with driver [kg], > 0
-  double wheelbase_m = 2.64;                  ///< L [m], > 0
-  double cog_to_front_axle_m = 1.06;          ///< l_f [m], in (0, L)
-  double cog_height_m = 0.55;                 ///< h [m], >= 0
-  double track_front_m = 1.55;                ///< t_f [m], > 0
-  double track_rear_m = 1.52;                 ///< t_r [m], > 0
-  double front_roll_stiffness_share = 0.6;    ///< lambda_f [-], in [0, 1]
+  double mass_kg = 1450.0;                  ///< m, vehicle with driver [kg], > 0
+  double wheelbase_m = 2.64;                ///< L [m], > 0
+  double cog_to_front_axle_m = 1.06;        ///< l_f [m], in (0, L)
+  double cog_height_m = 0.55;               ///< h [m], >= 0
+  double track_front_m = 1.55;              ///< t_f [m], > 0
+  double track_rear_m = 1.52;               ///< t_r [m], > 0
+  double front_roll_stiffness_share = 0.6;  ///< lambda_f [-], in [0, 1]
   DriveLayout drive_layout = DriveLayout::kFront;
-  double all_wheel_front_drive_share = 0.5;   ///< front share of drive torque when all-wheel driven [-], [0, 1]
-  double brake_balance_front = 0.7;           ///< front share of brake torque [-], in [0, 1]
-  double drag_coefficient = 0.30;             ///< c_d [-], >= 0
-  double frontal_area_m2 = 2.2;               ///< A [m^2], >= 0
-  double air_density_kg_per_m3 = 1.2;         ///< rho [kg/m^3], >= 0
-  double rolling_resistance_coefficient = 0.010;  ///< f_r [-], >= 0
+  double all_wheel_front_drive_share = 0.5;         ///< front share of drive torque when all-wheel driven [-], [0, 1]
+  double brake_balance_front = 0.7;                 ///< front share of brake torque [-], in [0, 1]
+  double drag_coefficient = 0.30;                   ///< c_d [-], >= 0
+  double frontal_area_m2 = 2.2;                     ///< A [m^2], >= 0
+  double air_density_kg_per_m3 = 1.2;               ///< rho [kg/m^3], >= 0
+  double rolling_resistance_coefficient = 0.010;    ///< f_r [-], >= 0
   double cornering_stiffness_front_per_rad = 12.6;  ///< c_alpha front: C_alpha/Fz [1/rad], > 0
   double cornering_stiffness_rear_per_rad = 12.6;   ///< c_alpha rear: C_alpha/Fz [1/rad], > 0
   double longitudinal_slip_stiffness = 16.4;        ///< c_kappa: C_kappa/Fz [-], > 0
-  double gravity_mps2 = 9.81;                 ///< g [m/s^2], > 0
+  double gravity_mps2 = 9.81;                       ///< g [m/s^2], > 0
 
   bool validate(std::string* error) const;
   double cogToRearAxle_m() const { return wheelbase_m - cog_to_front_axle_m; }
@@ -78,6 +85,7 @@ struct VehicleMotion {
   double accel_mps2 = 0.0;            ///< a_x = dv/dt [m/s^2]
   double path_curvature_per_m = 0.0;  ///< kappa of the CoG path [1/m], > 0 left
   double grade_rad = 0.0;             ///< theta, road grade [rad], > 0 uphill, |theta| < pi/2 (0: flat road)
+  double bank_rad = 0.0;              ///< phi, road bank [rad], > 0 left edge lower, |phi| < pi/2 (0: level)
 };
 
 /// One wheel's inputs for the wear model, plus the force demands they were derived from.
@@ -93,10 +101,10 @@ struct WheelState {
 
 struct VehicleState {
   std::array<WheelState, kWheelCount> wheels;
-  double lateral_accel_mps2 = 0.0;   ///< a_y [m/s^2]
-  double force_demand_n = 0.0;       ///< F = m a_x + F_aero + F_roll + m g sin(theta) [N]
-  double sideslip_rad = 0.0;         ///< beta, CoG velocity direction relative to the body [rad]
-  double steer_angle_rad = 0.0;      ///< mean front steer angle [rad]
+  double lateral_accel_mps2 = 0.0;  ///< a_y [m/s^2]
+  double force_demand_n = 0.0;      ///< F = m a_x + F_aero + F_roll + m g sin(theta) [N]
+  double sideslip_rad = 0.0;        ///< beta, CoG velocity direction relative to the body [rad]
+  double steer_angle_rad = 0.0;     ///< mean front steer angle [rad]
 };
 
 class VehicleModel {

@@ -10,9 +10,11 @@
 #include <vector>
 
 #include "tread_wear/cli/command_line.h"
+#include "tread_wear/io/driving_programme_csv.h"
 #include "tread_wear/io/speed_profile_csv.h"
 #include "tread_wear/io/vehicle_params_io.h"
 #include "tread_wear/ros/bag/drive_bag_writer.h"
+#include "tread_wear/vehicle/driving_programme.h"
 #include "tread_wear/vehicle/driving_style.h"
 #include "tread_wear/vehicle/manoeuvre.h"
 
@@ -25,6 +27,10 @@ const char* const kUsage =
     "                        [--max-lateral-accel-mps2 AY]\n"
     "                        [--profile SPEED.csv] [--vehicle VEHICLE.yaml] [--mass-kg M] [--drive-layout L]\n"
     "                        [--rate-hz 50] [--lateral-accel-limit 3.0] [--seed N] [--sensors] --out DRIVE.bag\n"
+    "       tread_wear_drive --programme DIR --section ID [--turns TURNS.csv] [--laps N] [--mirror]\n"
+    "                        [--corner-lateral-accel-mps2 4] [--steer-transition-s 1] [--smoothing-s 1]\n"
+    "                        [--vehicle VEHICLE.yaml] [--mass-kg M] [--drive-layout L] [--rate-hz 50] --out DRIVE.bag\n"
+    "                        (vehicle default: config/vehicle_ford_kuga.yaml, the programme's car)\n"
     "  --manoeuvre  profile: the speed profile over its route (default); cruise: constant speed on a straight;\n"
     "               circle: steady cornering; accel: accelerate/brake cycles on a straight (docs/drive.md)\n"
     "    cruise, circle: --speed-kmh V [km/h] --duration-s T [s], started at steady state\n"
@@ -43,7 +49,16 @@ const char* const kUsage =
     "  --lateral-accel-limit  a_y limit that sets the profile route's curve radii [m/s^2]\n"
     "  --seed       route random stream (deterministic per seed)\n"
     "  --sensors    also write what the car's sensors measured on the same drive: imu, joint_states, odom,\n"
-    "               /tf_static (sensor model and its fixed parameters: docs/vehicle_inputs.md)\n";
+    "               /tf_static (sensor model and its fixed parameters: docs/vehicle_inputs.md)\n"
+    "  --programme  a proving-ground programme's test section (vehicle/driving_programme.h; "
+    "docs/measured_road_wear.md):\n"
+    "               DIR with sectors.csv, maneuvers.csv, test_sections.csv (the package's: data/leon_t_idiada)\n"
+    "    --section  its Test section (Run-in, Rural_60_kph, Motorway, Urban_pa_30kph, ...)\n"
+    "    --turns    each corner's direction [default: DIR/turns.csv]; --mirror drives every corner the other way\n"
+    "    --laps     laps instead of the programme's (the laps are alike: per-km results need only a few)\n"
+    "    --corner-lateral-accel-mps2  the driver's bound on v^2 kappa: corners widened to reach it [m/s^2]\n"
+    "    --steer-transition-s  clothoid length into and out of a corner = v x this [s]\n"
+    "    --smoothing-s  speed-step smoothing window [s]\n";
 
 /// A params struct's validate() error ("<field> = <value>: must be ...") as the command line's error, naming the
 /// option the field came from when `options` (field, option) has it. Always false.
@@ -62,17 +77,19 @@ bool failInOption(const std::string& field_error, const std::pair<const char*, c
 
 /// The command-line option of each ManoeuvreParams field, so that a validation error names what the user typed.
 const std::pair<const char*, const char*> kManoeuvreOptions[] = {
-    {"speed_mps", "--speed-kmh"},         {"lateral_accel_mps2", "--lateral-accel"},
-    {"duration_s", "--duration-s"},       {"low_speed_mps", "--low-speed-kmh"},
-    {"high_speed_mps", "--high-speed-kmh"}, {"accel_mps2", "--accel-mps2"},
+    {"speed_mps", "--speed-kmh"},         {"lateral_accel_mps2", "--lateral-accel"}, {"duration_s", "--duration-s"},
+    {"low_speed_mps", "--low-speed-kmh"}, {"high_speed_mps", "--high-speed-kmh"},    {"accel_mps2", "--accel-mps2"},
     {"decel_mps2", "--decel-mps2"}};
 
 /// The options each manoeuvre takes (all required); any other manoeuvre option is a usage error.
 std::vector<std::string> manoeuvreOptions(Manoeuvre kind) {
   switch (kind) {
-    case Manoeuvre::kProfile: return {};
-    case Manoeuvre::kCruise: return {"speed-kmh", "duration-s"};
-    case Manoeuvre::kCircle: return {"speed-kmh", "lateral-accel", "duration-s"};
+    case Manoeuvre::kProfile:
+      return {};
+    case Manoeuvre::kCruise:
+      return {"speed-kmh", "duration-s"};
+    case Manoeuvre::kCircle:
+      return {"speed-kmh", "lateral-accel", "duration-s"};
     case Manoeuvre::kAccelCycles:
       return {"low-speed-kmh", "high-speed-kmh", "accel-mps2", "decel-mps2", "duration-s"};
   }
@@ -94,8 +111,8 @@ bool readManoeuvre(const CommandLine& args, ManoeuvreParams* params, std::string
     }
   }
   const std::vector<std::string> wanted = manoeuvreOptions(params->kind);
-  for (const char* option : {"speed-kmh", "lateral-accel", "direction", "duration-s", "low-speed-kmh",
-                             "high-speed-kmh", "accel-mps2", "decel-mps2"}) {
+  for (const char* option : {"speed-kmh", "lateral-accel", "direction", "duration-s", "low-speed-kmh", "high-speed-kmh",
+                             "accel-mps2", "decel-mps2"}) {
     const bool used = std::find(wanted.begin(), wanted.end(), option) != wanted.end() ||
                       (params->kind == Manoeuvre::kCircle && std::string(option) == "direction");
     if (args.has(option) && !used) {
@@ -111,7 +128,8 @@ bool readManoeuvre(const CommandLine& args, ManoeuvreParams* params, std::string
   }
   double speed_kmh = params->speed_mps * 3.6, low_kmh = params->low_speed_mps * 3.6,
          high_kmh = params->high_speed_mps * 3.6;
-  if (!args.number("speed-kmh", &speed_kmh, error) || !args.number("lateral-accel", &params->lateral_accel_mps2, error) ||
+  if (!args.number("speed-kmh", &speed_kmh, error) ||
+      !args.number("lateral-accel", &params->lateral_accel_mps2, error) ||
       !args.number("duration-s", &params->duration_s, error) || !args.number("low-speed-kmh", &low_kmh, error) ||
       !args.number("high-speed-kmh", &high_kmh, error) || !args.number("accel-mps2", &params->accel_mps2, error) ||
       !args.number("decel-mps2", &params->decel_mps2, error))
@@ -173,11 +191,108 @@ bool overrideVehicle(const CommandLine& args, VehicleParams* vehicle, std::strin
   std::string field_error;
   if (!vehicle->validate(&field_error)) {
     *error = (args.has("mass-kg") && field_error.rfind("mass_kg =", 0) == 0 ? "--mass-kg out of range: "
-                                                                             : "vehicle parameters: ") +
+                                                                            : "vehicle parameters: ") +
              field_error;
     return false;
   }
   return true;
+}
+
+/// The programme options into the section and the builder's params; false with a message naming the option.
+bool readProgramme(const CommandLine& args, const DrivingProgramme& programme, ProgrammeSection* section,
+                   ProgrammeDriveParams* params, std::string* error) {
+  if (!args.has("section")) {
+    *error = "--programme needs --section (one of test_sections.csv's Test section)";
+    return false;
+  }
+  const ProgrammeSection* found = programme.section(args.get("section"));
+  if (found == nullptr) {
+    *error = "--section '" + args.get("section") + "' is not a test section of the programme";
+    return false;
+  }
+  *section = *found;
+  if (!args.integer("laps", &section->laps, error) ||
+      !args.number("corner-lateral-accel-mps2", &params->max_lateral_accel_mps2, error) ||
+      !args.number("steer-transition-s", &params->steer_transition_s, error) ||
+      !args.number("smoothing-s", &params->smoothing_s, error))
+    return false;
+  if (section->laps < 1) {
+    *error = "--laps must be >= 1";
+    return false;
+  }
+  params->mirror = args.has("mirror");
+  const std::pair<const char*, const char*> options[] = {{"max_lateral_accel_mps2", "--corner-lateral-accel-mps2"},
+                                                         {"steer_transition_s", "--steer-transition-s"},
+                                                         {"smoothing_s", "--smoothing-s"}};
+  std::string field_error;
+  return params->validate(&field_error) || failInOption(field_error, options, error);
+}
+
+/// Options of the other drive kinds, refused with --programme rather than ignored.
+constexpr const char* kNotProgrammeOptions[] = {"profile",
+                                                "lateral-accel-limit",
+                                                "seed",
+                                                "manoeuvre",
+                                                "style",
+                                                "sensors",
+                                                "max-accel-mps2",
+                                                "max-decel-mps2",
+                                                "max-lateral-accel-mps2",
+                                                "speed-kmh",
+                                                "lateral-accel",
+                                                "direction",
+                                                "duration-s",
+                                                "low-speed-kmh",
+                                                "high-speed-kmh",
+                                                "accel-mps2",
+                                                "decel-mps2"};
+
+/// tread_wear_drive --programme: one test section as a drive bag, with its statistics on out.
+int runProgrammeDrive(const CommandLine& args, const std::string& share_dir, DriveOptions options, std::ostream& out,
+                      std::ostream& err) {
+  auto usage_error = [&err](const std::string& message) {
+    return usageError(err, "tread_wear_drive", message, kUsage);
+  };
+  for (const char* option : kNotProgrammeOptions)
+    if (args.has(option)) return usage_error(std::string("--") + option + " is not an option of --programme");
+  const std::string dir = args.get("programme");
+  const std::string turns = args.get("turns", dir + "/turns.csv");
+  std::string error;
+  try {
+    const DrivingProgramme programme = readDrivingProgramme(dir, turns);
+    ProgrammeSection section;
+    ProgrammeDriveParams params;
+    if (!readProgramme(args, programme, &section, &params, &error)) return usage_error(error);
+    VehicleParams vehicle_params = loadVehicleParams(args.get("vehicle", share_dir + "/config/vehicle_ford_kuga.yaml"));
+    if (!overrideVehicle(args, &vehicle_params, &error)) return usage_error(error);
+    const ProgrammeDrive drive = buildProgrammeDrive(programme, section, params);
+    ros::Time::init();
+    for (int w = 0; w < kWheelCount; ++w) options.wheel_names.push_back(wheelName(w));
+    const DriveScenarioInfo scenario{"programme",
+                                     "",
+                                     {{"laps", section.laps},
+                                      {"lap_length_m", drive.lap_length_m},
+                                      {"corner_lateral_accel_mps2", params.max_lateral_accel_mps2},
+                                      {"steer_transition_s", params.steer_transition_s},
+                                      {"smoothing_s", params.smoothing_s},
+                                      {"mirror", params.mirror ? 1.0 : 0.0}}};
+    const DriveStats stats = writeDriveBag(args.get("out"), drive.motion, {section.id, 0.0, 0.0, {}, scenario},
+                                           VehicleModel(vehicle_params), RouteParams{}, options);
+    out << formatted(
+        "%s: %s (%s, %s), %d laps of %.1f m, %.0f s, %.3f km, %zu samples x 4 wheels at %g Hz, "
+        "max |a_x| %.2f m/s^2, max |a_y| %.2f m/s^2\n",
+        args.get("out").c_str(), section.id.c_str(), section.test.c_str(), section.track.c_str(), section.laps,
+        drive.lap_length_m, stats.duration_s, stats.distance_m / 1000.0, stats.samples, options.rate_hz,
+        stats.max_abs_accel_mps2, stats.max_abs_lateral_accel_mps2);
+    out << formatted("  corners widened to %g m/s^2: %d per lap; manoeuvre distance beyond the laps: %.1f m\n",
+                     params.max_lateral_accel_mps2, drive.widened_corners, drive.unabsorbed_m);
+    out << formatted("  vehicle: %s, %.0f kg, %s-wheel drive\n", vehicle_params.name.c_str(), vehicle_params.mass_kg,
+                     driveLayoutName(vehicle_params.drive_layout));
+  } catch (const std::exception& e) {
+    err << "tread_wear_drive: " << e.what() << "\n";
+    return kExitData;
+  }
+  return 0;
 }
 
 }  // namespace
@@ -192,11 +307,35 @@ int runDriveCli(int argc, const char* const argv[], const std::string& share_dir
   CommandLine args;
   std::string error;
   if (!args.parse(argc, argv,
-                  {"profile", "vehicle", "out", "rate-hz", "lateral-accel-limit", "seed", "manoeuvre", "speed-kmh",
-                   "lateral-accel", "direction", "duration-s", "low-speed-kmh", "high-speed-kmh", "accel-mps2",
-                   "decel-mps2", "mass-kg", "drive-layout", "style", "max-accel-mps2", "max-decel-mps2",
-                   "max-lateral-accel-mps2"},
-                  {"sensors"}, &error))
+                  {"profile",
+                   "vehicle",
+                   "out",
+                   "rate-hz",
+                   "lateral-accel-limit",
+                   "seed",
+                   "manoeuvre",
+                   "speed-kmh",
+                   "lateral-accel",
+                   "direction",
+                   "duration-s",
+                   "low-speed-kmh",
+                   "high-speed-kmh",
+                   "accel-mps2",
+                   "decel-mps2",
+                   "mass-kg",
+                   "drive-layout",
+                   "style",
+                   "max-accel-mps2",
+                   "max-decel-mps2",
+                   "max-lateral-accel-mps2",
+                   "programme",
+                   "section",
+                   "turns",
+                   "laps",
+                   "corner-lateral-accel-mps2",
+                   "steer-transition-s",
+                   "smoothing-s"},
+                  {"sensors", "mirror"}, &error))
     return usage_error(error);
   if (args.help()) {
     out << kUsage;
@@ -211,6 +350,7 @@ int runDriveCli(int argc, const char* const argv[], const std::string& share_dir
   if (!(options.rate_hz > 0.0)) return usage_error("--rate-hz must be > 0");
   if (seed < 0) return usage_error("--seed must be >= 0");
   route_params.seed = static_cast<std::uint32_t>(seed);
+  if (args.has("programme")) return runProgrammeDrive(args, share_dir, options, out, err);
   ManoeuvreParams manoeuvre;
   if (!readManoeuvre(args, &manoeuvre, &error)) return usage_error(error);
   std::string style;
