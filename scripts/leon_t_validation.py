@@ -3,6 +3,7 @@
 
 Usage: scripts/leon_t_validation.py [--measurements CSV] [--out DIR] [--laps N] [--jobs N] [--no-plots]
                                     [--fit-adhesion] [--tire YAML] [--vehicle YAML] [--wheels YAML]
+                                    [--corner-lateral-accel-mps2 A] [--steer-transition-s T] [--mirror]
 
 Every test section of the programme (data/leon_t_idiada) is built as a drive (tread_wear_drive --programme), written
 as a bag and replayed through the node's estimator (tread_wear_replay), at each scenario's vehicle mass, with the
@@ -128,7 +129,9 @@ def simulate(job):
     args, section, mass, laps, configs, tmp = job
     bag = os.path.join(tmp, "%s_%d.bag" % (section, round(mass)))
     run([os.path.join(BIN, "tread_wear_drive"), "--programme", args.programme, "--section", section, "--laps",
-         str(laps), "--vehicle", args.vehicle, "--mass-kg", repr(mass), "--rate-hz", repr(args.rate_hz), "--out", bag])
+         str(laps), "--vehicle", args.vehicle, "--mass-kg", repr(mass), "--rate-hz", repr(args.rate_hz), "--out", bag,
+         "--corner-lateral-accel-mps2", repr(args.corner_lateral_accel_mps2), "--steer-transition-s",
+         repr(args.steer_transition_s)] + (["--mirror"] if args.mirror else []))
     result = {}
     for variant, config in configs.items():
         summary = bag[:-4] + "_" + variant + ".json"
@@ -311,6 +314,10 @@ def main():
     ap.add_argument("--tire", default=os.path.join(REPO, "config", "tires", "suv_225_60_r18.yaml"))
     ap.add_argument("--laps", type=int, default=3, help="laps per section (they are alike; default 3)")
     ap.add_argument("--rate-hz", type=float, default=50.0)
+    ap.add_argument("--corner-lateral-accel-mps2", type=float, default=4.0,
+                    help="the driver's bound in corners (tread_wear_drive; default 4)")
+    ap.add_argument("--steer-transition-s", type=float, default=1.0, help="clothoids into corners (default 1 s)")
+    ap.add_argument("--mirror", action="store_true", help="drive every corner the other way")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
     ap.add_argument("--no-plots", action="store_true")
     ap.add_argument("--fit-adhesion", action="store_true")
