@@ -128,7 +128,7 @@ void report(const std::string& name, const std::string& set, const std::vector<b
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string road_params_path;  // default: the Grosch wheel (see docs/performance.md for why not the passenger tire)
+  std::string road_params_path;  // default: the Grosch wheel (docs/performance.md, "Passenger tire")
   bool coarse = false;
   bool use_cvode = false;
   bool time = false;

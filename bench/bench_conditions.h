@@ -11,7 +11,7 @@
 ///    x slip ratio in [-0.2, 0.2] x speed 0.5..40 m/s x path curvature (straight and R = 5 m).
 ///  - random road: n points drawn inside the road grid's envelope (between its nodes), for accuracy
 ///    claims that must not depend on where the grid's points happen to lie.
-/// Error measures against a reference result: tread_wear/core/solver_errors.h.
+/// Error measures against a reference result: tread_wear/reference/solver_errors.h.
 
 #include <algorithm>
 #include <cmath>

@@ -3,8 +3,8 @@
 // with the CVODE ReferenceBrushSolver within 0.02% on the rig grid and within 0.18% (Fx, Fy), 1.9% (Mz),
 // 0.8% (W_r) and 0.008 (fractions) on the road grid (docs/performance.md). The bounds are the whole-grid maxima of the
 // accuracy study, rounded up; the grid here is the Table 3 rig set plus a road subset that contains the study's worst
-// conditions. Error scales: tread_wear/core/solver_errors.h (F relative to max(|F_ref|, 0.05 |F_ref vector|, 0.005 Fz);
-// Mz relative to max(|Mz_ref|, a times that force floor); W_r relative; fractions absolute).
+// conditions. Error scales: tread_wear/reference/solver_errors.h (F relative to max(|F_ref|, 0.05 |F_ref vector|,
+// 0.005 Fz); Mz relative to max(|Mz_ref|, a times that force floor); W_r relative; fractions absolute).
 #include <gtest/gtest.h>
 
 #include <algorithm>

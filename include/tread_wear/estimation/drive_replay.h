@@ -1,13 +1,15 @@
 #pragma once
 /// @file drive_replay.h
 /// Offline replay of a recorded drive through the same per-wheel estimator as the live node
-/// (wheel_estimator.h), far faster than real time. ROS-free: the bag layer (src/tools/ros) feeds samples.
+/// (wheel_estimator.h), far faster than real time. ROS-free: the bag layer (readDriveBag,
+/// src/ros/bag/drive_bag_reader.cpp, for tread_wear_replay in src/ros/bag/replay_cli.cpp) feeds samples.
 ///
-/// Sampling, identical to tread_wear_node: every input sample is applied to the wheel's WheelInputs at its
-/// arrival time (the bag's record time = the node's ros::Time::now() under `rosbag play --clock`); a fixed-rate
-/// loop at update_rate_hz steps each wheel's WheelEstimator at t_k = t_0 + k / rate, t_0 = the first sample
-/// time of the drive, after applying every sample with time <= t_k. The live node's timer phase is arbitrary,
-/// so node and replay agree to within the effect of that phase (test/ros: replay_vs_node).
+/// Sampling: every input sample is applied to the wheel's WheelInputs at its time (the bag's record time; the drive
+/// bags of tread_wear_drive stamp the headers with the same time); a fixed-rate loop at update_rate_hz steps each
+/// wheel's WheelEstimator at t_k = t_0 + k / rate, t_0 = the first sample time of the drive, after applying every
+/// sample with time <= t_k. tread_wear_node under simulated time steps each wheel on the same kind of grid in its
+/// inputs' header stamps (WheelPipeline::receive, InputTimeline); test/ros/fast_replay.test holds the node's loss
+/// per wheel equal to this replay's within 0.5% on a 300 s WLTC bag.
 /// Wheels are independent, so each wheel runs in its own thread (up to `threads`); results do not depend on it.
 ///
 /// Summary (ReplaySummary): per wheel the accumulated loss [kg], distance [m], mg/km, means of the stick and

@@ -2,7 +2,7 @@
 /// @file wheel_config.h
 /// The wheel configuration (config/vehicle_wheels.yaml, docs/node.md): one defaults table, one reader and one
 /// validation for both of its users. tread_wear_node gets the document from the parameter server (the launch file
-/// loads the YAML into its private namespace; src/ros/node_config.cpp turns that tree into JSON) and
+/// loads the YAML into its private namespace; src/ros/node_config.cpp turns that XML-RPC tree into a ConfigValue) and
 /// tread_wear_replay from the file (loadNodeConfigFile); both call readNodeConfig(), so a key, its default and its
 /// constraint cannot differ between the live node and the offline replay. ROS-free.
 

@@ -1,4 +1,4 @@
-// The diagnosis' rosbag adapter (src/tools/ros/diagnosis_bag.h): segments between mass checkpoints become runs
+// The diagnosis' rosbag adapter (include/tread_wear/ros/bag/diagnosis_bag.h): segments between mass checkpoints become runs
 // with time-weighted means computed by hand here, messages stamped at a checkpoint go to the segment that starts
 // there, malformed bags get errors naming the bag and the problem, and the documented example bag
 // (examples/diagnosis/make_bag.py) gives back the run table it was written from and the same verdict.
