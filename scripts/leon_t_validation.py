@@ -179,6 +179,8 @@ def predictions(measured, tests_by_scenario, variant, adhesion_scale=1.0):
         t = tests_by_scenario[scenario][test][wheel]
         if variant == "friction":
             return t["friction_j_per_m"]
+        if variant == "paper":
+            return t["paper"]
         return t["paper"] + adhesion_scale * (t["model"] - t["paper"])
 
     factors = {}

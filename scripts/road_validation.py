@@ -9,6 +9,7 @@ Usage: scripts/road_validation.py [--out DIR] [--preset standard] [--bin _build/
 Runtime: about 4 minutes on 2 cores (preset standard).
 """
 import argparse
+import csv
 import json
 import math
 import os
@@ -36,7 +37,11 @@ PUBLISHED = {
     "rural_over_motorway": ([1.16, 1.36], "ratio", "EMEP/EEA guidebook S_T(V); Beddows & Harrison 2021"),
     "mass_elasticity": ([0.37, 1.0], "exponent", "Beddows & Harrison 2021 (0.43 +0.10/-0.06); per-tonne norm (1)"),
     "aggressive_over_calm": ([1.0, math.inf], "ratio", "Emissions Analytics 2022; BTMA; Auto Express (2.5x twisty)"),
+    "free_rolling_30_over_5": ([0.5, 2.0], "ratio", "no published cruise-speed effect (Pohrt 2019): within x2"),
+    "side_force_exponent": ([2.0, 4.0], "exponent", "RCT 46(4):821 (1973), 2-4; Schallamach & Turner 1960"),
 }
+TIRE = "config/tires/passenger_205_55_r16.yaml"
+TIRE_LOAD_N = 4000.0  # about the passenger car's static wheel load
 
 
 def run(cmd, stdin=None):
@@ -77,6 +82,28 @@ def slope(xs, ys):
     return sum((a - mx) * (b - my) for a, b in zip(lx, ly)) / sum((a - mx) ** 2 for a in lx)
 
 
+def tire_points(bin_dir, preset, rows):
+    """tread_wear_eval on (speed, slip angle) rows of the road tire at TIRE_LOAD_N, straight, no slip ratio."""
+    text = "speed_mps,slip_angle_rad,slip_ratio,path_radius_m,load_n\n" + "".join(
+        f"{v!r},{a!r},0,0,{TIRE_LOAD_N!r}\n" for v, a in rows)
+    out = run([os.path.join(bin_dir, "tread_wear_eval"), "--params", TIRE, "--preset", preset, "-"], stdin=text)
+    return list(csv.DictReader(out.splitlines()))
+
+
+def tire_relations(bin_dir, preset):
+    """Free-rolling wear per km at 30 over 5 m/s, and the exponent of wear against side force at 20 m/s where
+    |Fy| is 0.1-0.3 Fz (the tire alone, tread_wear_eval)."""
+    free = tire_points(bin_dir, preset, [(5.0, 0.0), (30.0, 0.0)])
+    w5, w30 = (float(r["wear_rate_kg_per_m"]) for r in free)
+    ratio = w30 / w5 if w5 > 0 else math.inf
+    alphas = [0.002 * k for k in range(1, 40)]
+    pts = [r for r in tire_points(bin_dir, preset, [(20.0, a) for a in alphas])
+           if 0.1 <= abs(float(r["fy_n"])) / TIRE_LOAD_N <= 0.3]
+    exponent = slope([abs(float(r["fy_n"])) for r in pts], [float(r["wear_rate_kg_per_m"]) for r in pts])
+    return ratio, exponent, {"free_rolling_kg_per_m": {"5": w5, "30": w30},
+                             "side_force_points": [(float(r["fy_n"]), float(r["wear_rate_kg_per_m"])) for r in pts]}
+
+
 def eea_speed_factor(v_kmh):
     """EMEP/EEA guidebook speed correction S_T(V) of tyre wear at mean trip speed V."""
     if v_kmh < 40.0:
@@ -113,6 +140,7 @@ def main():
              ["vehicle_mg_per_km"] for a in ax]
 
     phases = wltc["phases_mg_per_km"]
+    free_ratio, fy_exponent, tire_series = tire_relations(args.bin, args.preset)
     model = {
         "level_per_tire": wltc["mean_mg_per_km"],
         "level_per_tonne": wltc["vehicle_mg_per_km"] / (mass_kg / 1000.0),
@@ -125,6 +153,8 @@ def main():
         "rural_over_motorway": phases["High"] / phases["Extra High"],
         "mass_elasticity": slope(masses, by_mass),
         "aggressive_over_calm": styles["aggressive"]["vehicle_mg_per_km"] / styles["calm"]["vehicle_mg_per_km"],
+        "free_rolling_30_over_5": free_ratio,
+        "side_force_exponent": fy_exponent,
     }
     relations = {}
     print("\n| relation | published | model | inside |\n|---|---|---|---|")
@@ -143,7 +173,7 @@ def main():
                            "accel_ax_mps2": ax, "accel_vehicle_mg_per_km": accel, "mass_kg": masses,
                            "mass_vehicle_mg_per_km": by_mass,
                            "wltc_phase_over_extra_high": {k: v / phases["Extra High"] for k, v in phases.items()},
-                           "eea_phase_over_extra_high": eea}}
+                           "eea_phase_over_extra_high": eea, "tire": tire_series}}
     with open(os.path.join(REPO, args.out, "road_validation.json"), "w") as f:
         json.dump(document, f, indent=1, sort_keys=True)
     inside = sum(r["inside"] for r in relations.values())

@@ -28,50 +28,55 @@ AdhesionWearResult AdhesionWear::evaluate(const OperatingPoint& op, const Contac
   const double p_above_scale = f.mu_0 * std::pow(f.p_ref_pa, f.q);
   constexpr int nx = AdhesionGrid::kNx, ny = 2 * AdhesionGrid::kNy;
   const double dx = 2.0 * a / nx, dy = 2.0 * b / ny;
-  std::array<double, nx + 1> px{}, px_pow{};
+  // Everything that depends on x alone, per node: the slip lever a - x, the tread-band shear, the turn-slip part of
+  // delta_y, the line pressure and its power 1 - q.
+  std::array<double, nx + 1> lead{}, d_fr{}, d_turn{}, px{}, px_pow{};
   for (int i = 0; i <= nx; ++i) {
-    px[i] = patch.lineLoad(a - i * dx) / (2.0 * b);
+    const double x = a - i * dx;
+    lead[i] = a - x;
+    d_fr[i] = x * (a * a - x * x) * fr_scale;
+    d_turn[i] = -0.5 * om * (a * a - x * x);
+    px[i] = patch.lineLoad(x) / (2.0 * b);
     px_pow[i] = std::pow(px[i], 1.0 - f.q);
   }
-  // Deflection energy e = (k_x delta_x^2 + k_y delta_y^2) / 2 and the static-limit margin at x on strip y.
-  auto energyAndMargin = [&](double x, double sx, double p, double p_pow_y, double* e) {
-    const double lead = a - x;
-    const double delta_x = sx * lead + x * (a * a - x * x) * fr_scale;
-    const double delta_y = sy * lead - 0.5 * om * (a * a - x * x);
-    *e = 0.5 * (k_x * delta_x * delta_x + k_y * delta_y * delta_y);
-    const double limit = p >= f.p_0_pa ? p_above_scale * p_pow_y : p_floor_limit * p;
-    return limit - std::hypot(k_x * delta_x, k_y * delta_y);
+  // Deflection energy e = (k_x delta_x^2 + k_y delta_y^2) / 2 and the squared margin limit^2 - |k delta|^2 (the sign
+  // says stick or slide) at node i of a strip with slip sx, at pressure p and p^(1-q) = p_pow.
+  auto node = [&](int i, double sx, double p, double p_pow, double* e) {
+    const double tx = k_x * (sx * lead[i] + d_fr[i]), ty = k_y * (sy * lead[i] + d_turn[i]);
+    *e = 0.5 * (tx * tx / k_x + ty * ty / k_y);
+    const double limit = p >= f.p_0_pa ? p_above_scale * p_pow : p_floor_limit * p;
+    return limit * limit - tx * tx - ty * ty;
   };
+  // Without turn slip and with a symmetric lateral pressure the strips at -y and y are alike: half of them, twice.
+  const bool mirror = omega == 0.0 && params_.footprint.y_e_m == 0.0;
+  const int strips = mirror ? ny / 2 : ny;
 
   // Per strip, the shear work is the total variation of e along the adhesion zone (|tau . d delta| = |de|): node
   // differences are exact where e is monotone between nodes, and the release point is interpolated in the margin.
   double work = 0.0;
-  for (int j = 0; j < ny; ++j) {
-    const double eta = -1.0 + (j + 0.5) * 2.0 / ny, y = b * eta;
+  for (int j = 0; j < strips; ++j) {
+    const double eta = (mirror ? 0.0 : -1.0) + (j + 0.5) * 2.0 / ny, y = b * eta;
     const double gy = patch.shapeY()(eta), gy_pow = std::pow(gy, 1.0 - f.q);
     const double sx = (kinematics.v_rx0_mps + omega * y) / rolling_speed;
     bool adhered = false;
     double e_prev = 0.0, margin_prev = 0.0, strip = 0.0;
     for (int i = 0; i <= nx; ++i) {
-      const double x = a - i * dx;
       double e = 0.0;
-      const double margin = energyAndMargin(x, sx, px[i] * gy, px_pow[i] * gy_pow, &e);
+      const double margin = node(i, sx, px[i] * gy, px_pow[i] * gy_pow, &e);
       if (margin >= 0.0) {
         if (adhered) strip += std::fabs(e - e_prev);
         adhered = true;  // a leading band that slid is captured here with the deflection it has
         e_prev = e;
       } else if (adhered) {
-        // Released between the previous node and this one: the brush's sliding wear from there on.
-        const double xs = x + dx * (-margin) / (margin_prev - margin);
-        const double t = (a - xs) / dx - (i - 1);  // position of xs within the interval, in [0, 1]
-        double e_s = 0.0;
-        energyAndMargin(xs, sx, (px[i - 1] + t * (px[i] - px[i - 1])) * gy, 0.0, &e_s);
-        strip += std::fabs(e_s - e_prev);
+        // Released between the previous node and this one (the brush's sliding wear from there on): e interpolated
+        // to the zero of the margin.
+        const double t = margin_prev / (margin_prev - margin);
+        strip += std::fabs(t * (e - e_prev));
         break;
       }
       margin_prev = margin;
     }
-    work += strip * dy;
+    work += strip * dy * (mirror ? 2.0 : 1.0);
   }
   // Work per distance rolled; the tread crosses the patch at V_r, the wheel centre moves at V.
   result.work_j_per_m = work * rolling_speed / op.speed_mps;

@@ -46,7 +46,7 @@ TEST(AdhesionWear, FreeRollingShearEnergyMatchesTheClosedFormAtAnySpeed) {
       op.load_n = load;
       const AdhesionWearResult r = adhesion(p, op);
       EXPECT_NEAR(r.free_rolling_shear_m, delta_max, 1e-12) << load;
-      // Total variation between 49 nodes: exact but at the four extrema, within 1 %.
+      // Total variation between 41 nodes: exact but at the four extrema, within 1 %.
       EXPECT_NEAR(r.work_j_per_m, expected, 0.01 * expected) << load << " N, " << speed << " m/s";
       EXPECT_NEAR(r.wear_kg_per_m, r.work_j_per_m * 1e-9, 1e-12 * r.work_j_per_m);
     }

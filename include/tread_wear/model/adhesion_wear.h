@@ -48,8 +48,8 @@ namespace tread_wear {
 /// equally spaced nodes (exact where it is monotone between nodes) with the release point interpolated; across the
 /// width, midpoints of equal strips.
 struct AdhesionGrid {
-  static constexpr int kNx = 48;  ///< intervals along x [-]
-  static constexpr int kNy = 6;   ///< strips per half width [-]
+  static constexpr int kNx = 40;  ///< intervals along x [-]
+  static constexpr int kNy = 4;   ///< strips per half width [-]
 };
 
 /// The adhesion zone's shear work and wear of one operating point.
