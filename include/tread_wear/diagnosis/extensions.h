@@ -16,6 +16,12 @@
 ///   turn_slip_orientation  the other orientation of alpha against the track curve          side force, wear
 ///   sensor_gain          measured Fy = g Fy (force transducer gain; not physics)           side force
 ///   sensor_offset        measured Fy = Fy + o (force transducer zero offset; not physics)  side force
+///   contact_time_wear    W_r += w4 4ab / V: the paper's non-sliding wear (Eq 19's per-time term) on top of the
+///                        file's w4, a, b the footprint's at the load (no brush evaluation)            wear
+///   adhesion_wear        W_r += K_a E_a: adhesion-zone micro-slip (model/adhesion_wear.h) on top of the file's,
+///                        E_a at the base brush parameters (it does not follow mu_scale or the friction terms)  wear
+/// The two wear terms of the road (contact_time_wear, adhesion_wear) apply to drive segments only: on the rig's
+/// steady programmes they would compete with the rig's own terms, whose proofs were made without them.
 /// User-defined mechanisms (user_mechanisms.h) follow the built-in terms in the library (Term::kFirstUser on) and
 /// are applied after them, in the order of the model's terms.
 /// W_r splits exactly into the w3 part and the w4 part w4 4ab/V (Eq 19-20: w4 acts on the whole patch), so the
@@ -66,6 +72,8 @@ enum class Term {
   kTurnSlipOrientation,
   kSensorGain,
   kSensorOffset,
+  kContactTimeWear,
+  kAdhesionWear,
   kFirstUser  ///< the first user-defined term, if any
 };
 
