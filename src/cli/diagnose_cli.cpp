@@ -40,11 +40,12 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
                    const std::string& default_plot_script, std::ostream& out, std::ostream& err) {
   CommandLine a;
   std::string parse_error;
-  const bool parsed = a.parse(argc, argv,
-               {"params", "runs", "bag", "report", "orientation", "preset", "candidates", "max-terms",
-                "alpha-locate", "alpha-select", "detection-power", "seed", "plot-script", "force-noise-model",
-                "wear-noise-model", "mechanisms", "input-timeout-s", "update-rate-hz", "cv-groups"},
-               {"no-plots"}, &parse_error);
+  const bool parsed =
+      a.parse(argc, argv,
+              {"params", "runs", "bag", "report", "orientation", "preset", "candidates", "max-terms", "alpha-locate",
+               "alpha-select", "detection-power", "seed", "plot-script", "force-noise-model", "wear-noise-model",
+               "mechanisms", "input-timeout-s", "update-rate-hz", "cv-groups"},
+              {"no-plots"}, &parse_error);
   auto usage = [&](const std::string& msg) { return usageError(err, "tread_wear_diagnose", msg, kDiagnoseUsage); };
   if (a.help()) {
     out << kDiagnoseUsage;

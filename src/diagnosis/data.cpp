@@ -232,8 +232,10 @@ void holdOutGroups(DiagnosisData* data, const std::string& covariate) {
     data->cv_scheme = "leave one " + covariate + " out";
     return;
   }
-  throw DiagnosisError("cross-validation groups: '" + covariate + "' is not a categorical covariate of the "
-                       "recordings (those with 2 to n/2 levels: " + (known.empty() ? "none" : known) + ")");
+  throw DiagnosisError("cross-validation groups: '" + covariate +
+                       "' is not a categorical covariate of the "
+                       "recordings (those with 2 to n/2 levels: " +
+                       (known.empty() ? "none" : known) + ")");
 }
 
 }  // namespace diagnosis

@@ -66,13 +66,21 @@ std::vector<TermInfo> makeLibrary() {
   lib.push_back({Term::kSensorOffset, "sensor_offset",
                  "not physics: the side-force transducer reads the true force plus a constant zero offset o [N]",
                  false, {true, false}, {{"side_force_offset_n", 0.0, -30.0, 30.0, false, 0.0, "N"}}, 0});
-  lib.push_back({Term::kContactTimeWear, "contact_time_wear",
+  lib.push_back({Term::kContactTimeWear,
+                 "contact_time_wear",
                  "the tread wears per unit contact time and area, sliding or not (Eq 19's w4 term): W_r += w4 4ab / V",
-                 true, {false, true}, {{"w4_kg_per_s_m2", 1e-5, 0.0, 1e-3, false, 0.0, "kg/(s m^2)"}}, 0});
-  lib.push_back({Term::kAdhesionWear, "adhesion_wear",
+                 true,
+                 {false, true},
+                 {{"w4_kg_per_s_m2", 1e-5, 0.0, 1e-3, false, 0.0, "kg/(s m^2)"}},
+                 0});
+  lib.push_back({Term::kAdhesionWear,
+                 "adhesion_wear",
                  "micro-slip on the road texture wears the tread in the adhesion zone: W_r += K_a E_a, E_a the shear "
                  "work turned over there per distance (model/adhesion_wear.h)",
-                 true, {false, true}, {{"adhesion_kg_per_j", 1e-9, 0.0, 1e-6, false, 0.0, "kg/J"}}, 0});
+                 true,
+                 {false, true},
+                 {{"adhesion_kg_per_j", 1e-9, 0.0, 1e-6, false, 0.0, "kg/J"}},
+                 0});
   return lib;
 }
 
@@ -170,9 +178,8 @@ bool termApplicable(Term term, const DiagnosisData& data, std::string* why_not) 
       return fy ? true : no("no side force measured");
     case Term::kContactTimeWear:
     case Term::kAdhesionWear: {
-      const bool drives = std::any_of(data.runs.begin(), data.runs.end(), [](const DiagnosisRun& r) {
-        return r.isDrive();
-      });
+      const bool drives =
+          std::any_of(data.runs.begin(), data.runs.end(), [](const DiagnosisRun& r) { return r.isDrive(); });
       if (!drives) return no("a road term: needs drive segments (extensions.h)");
       return data.measured_count[1] > 0 ? true : no("no wear measured");
     }

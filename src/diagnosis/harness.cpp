@@ -38,7 +38,8 @@ std::vector<std::pair<std::string, double>> magnitudes(Term t, bool two) {
     case Term::kLoadFluctuation: return {{"small", 0.25}, {"large", 0.40}};
     case Term::kSensorGain: return {{"small", 1.05}, {"large", 1.10}};
     case Term::kSensorOffset: return {{"small", 2.5}, {"large", 5.0}};
-    case Term::kContactTimeWear: return {{"small", 1.5e-5}, {"large", 3e-5}};
+    case Term::kContactTimeWear:
+      return {{"small", 1.5e-5}, {"large", 3e-5}};
     default: {
       const TermInfo& info = termInfo(t);
       if (info.user && info.user->test_magnitudes.size() == 2)

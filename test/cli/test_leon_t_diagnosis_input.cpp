@@ -3,13 +3,12 @@
 // each exits 1 naming the file, the line or the missing runs, before any drive is generated (--check-only). And the
 // package's data pass, with the section plan the docs state.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <array>
 #include <cstdio>
 #include <memory>
 #include <string>
-
-#include <sys/wait.h>
 
 #include "../common/temp_file.h"
 

@@ -115,8 +115,9 @@ TEST(EmpiricalTerms, PerCycleRecordedCovariateWinsOverCycleOffsets) {
   ConcealSpec spec;  // a control on the Table 2 design (six cycles), then the covariate's effect on the wear
   spec.seed = 4242;
   RunTable table = concealEffect(loadTireParams(kParams), spec).table;
-  const int ambient = static_cast<int>(
-      std::find(table.covariate_names.begin(), table.covariate_names.end(), "ambient_c") - table.covariate_names.begin());
+  const int ambient =
+      static_cast<int>(std::find(table.covariate_names.begin(), table.covariate_names.end(), "ambient_c") -
+                       table.covariate_names.begin());
   ASSERT_LT(ambient, static_cast<int>(table.covariate_names.size()));
   std::map<int, std::set<double>> per_cycle;
   for (RunRecord& r : table.runs) {

@@ -72,8 +72,8 @@ TEST(RoadTerms, ContactTimeWearAddsW4TimesContactAreaOverSpeed) {
     // Eq 19's w4 term per distance, over the segment's points: sum w4 4 a(Fz) b / V d / D.
     double expected = 0.0;
     for (const WeightedOperatingPoint& p : table.runs[i].drive_points)
-      expected += w4 * 4.0 * tire.footprint.halfLength(p.op.load_n) * tire.footprint.b_m / p.op.speed_mps *
-                  p.distance_m;
+      expected +=
+          w4 * 4.0 * tire.footprint.halfLength(p.op.load_n) * tire.footprint.b_m / p.op.speed_mps * p.distance_m;
     expected /= table.runs[i].drive_distance_m;
     EXPECT_NEAR(p1.wear_kg_per_m[i] - p0.wear_kg_per_m[i], expected, 1e-9 * expected) << "segment " << i;
     EXPECT_DOUBLE_EQ(p1.side_force_n[i], p0.side_force_n[i]);  // wear only

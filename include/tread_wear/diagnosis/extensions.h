@@ -34,9 +34,10 @@
 /// Drive segments (DiagnosisRun::isDrive) are predicted from their integrated operating points, binned into cells
 /// (point_cells.h) at two resolutions that all segments share: fine cells (the default PointCellParams, within
 /// 0.25% of the replay's wear per segment, docs/diagnosis.md) and coarse ones (4 times the load width, 5 times the
-/// slip widths, 15 times the speed width, 6 times the curvature width, 3 degC; about 8 times fewer cells). The fine cells are evaluated once per preset at the base brush parameters (mu_scale 1, no
-/// friction, compliance or spread term; cached with the data: DiagnosisData::drive_cells); a fit re-simulates only
-/// the coarse cells and carries the change to the fine cells it contains:
+/// slip widths, 15 times the speed width, 6 times the curvature width, 3 degC; about 8 times fewer cells). The fine
+/// cells are evaluated once per preset at the base brush parameters (mu_scale 1, no friction, compliance or spread
+/// term; cached with the data: DiagnosisData::drive_cells); a fit re-simulates only the coarse cells and carries the
+/// change to the fine cells it contains:
 ///   Fy = Fy_fine,base + (Fy_coarse - Fy_coarse,base),  W_r,w3 = W_r,w3,fine,base x W_r,w3,coarse / W_r,w3,coarse,base,
 /// W_r,w4 (load and speed only) from the fine cell. A change of the parameters moves W_r smoothly across a coarse
 /// cell, so the ratio carries it to second order where W_r itself (steep in slip) would not. A segment's W_r is

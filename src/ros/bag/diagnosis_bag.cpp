@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <tuple>
 #include <memory>
 #include <stdexcept>
+#include <tuple>
 
 #include <geometry_msgs/WrenchStamped.h>
 #include <rosbag/bag.h>
