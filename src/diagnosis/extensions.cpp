@@ -271,6 +271,20 @@ std::vector<double> adhesionWork(const TireParams& base, TurnSlipOrientation ori
   return work;
 }
 
+/// adhesionWork of the drive cells, cached per orientation in `store` (DriveCells::fine_adhesion, coarse_adhesion).
+const std::vector<double>& cellAdhesionWork(const TireParams& base, TurnSlipOrientation orientation,
+                                            const std::vector<DiagnosisRun>& cells,
+                                            std::map<int, std::vector<double>>* store) {
+  const int key = static_cast<int>(orientation);
+  auto it = store->find(key);
+  if (it == store->end()) {
+    std::vector<const DiagnosisRun*> points;
+    for (const DiagnosisRun& c : cells) points.push_back(&c);
+    it = store->emplace(key, adhesionWork(base, orientation, points)).first;
+  }
+  return it->second;
+}
+
 /// Steady runs with this key share one brush evaluation (repeats of a condition).
 std::array<double, 6> steadyKey(const DiagnosisRun& r) {
   return {r.op.speed_mps, r.op.slip_angle_rad, r.op.slip_ratio, r.op.path_curvature_per_m, r.op.load_n,
@@ -553,18 +567,11 @@ bool ExtendedModel::predict(const std::vector<double>& values, Prediction* out) 
   // The road wear terms (contact_time_wear, adhesion_wear): additive per distance, no brush re-evaluation.
   const double w4_extra = has(Term::kContactTimeWear) ? value(Term::kContactTimeWear, 0) : 0.0;
   const double k_a = has(Term::kAdhesionWear) ? value(Term::kAdhesionWear, 0) : 0.0;
-  const std::vector<double>* cell_work = nullptr;
-  if (has(Term::kAdhesionWear) && drive_) {
-    auto& store = use_fine ? drive_->fine_adhesion : drive_->coarse_adhesion;
-    const int key = static_cast<int>(brush_options_.orientation);
-    auto it = store.find(key);
-    if (it == store.end()) {
-      std::vector<const DiagnosisRun*> points;
-      for (const DiagnosisRun& c : cells) points.push_back(&c);
-      it = store.emplace(key, adhesionWork(base_, brush_options_.orientation, points)).first;
-    }
-    cell_work = &it->second;
-  }
+  const std::vector<double>* cell_work =
+      has(Term::kAdhesionWear) && drive_
+          ? &cellAdhesionWork(base_, brush_options_.orientation, cells,
+                              use_fine ? &drive_->fine_adhesion : &drive_->coarse_adhesion)
+          : nullptr;
   auto road_terms = [&](const DiagnosisRun& point, double work_j_per_m) {
     return w4_extra * contactAreaPerSpeed(base_.footprint, point.op) + k_a * work_j_per_m;
   };
