@@ -31,7 +31,8 @@ const char* const kDiagnoseUsage =
     "       [--candidates a,b,...] [--mechanisms FILE]\n"
     "       [--max-terms N] [--alpha-locate X] [--alpha-select X] [--detection-power X] [--seed N]\n"
     "       [--plot-script PATH | --no-plots]\n"
-    "       [--input-timeout-s S] [--update-rate-hz HZ]   (--bag: integration of each wheel's inputs)\n";
+    "       [--input-timeout-s S] [--update-rate-hz HZ]   (--bag: integration of each wheel's inputs)\n"
+    "       [--cv-groups COVARIATE]   hold out whole groups of a categorical covariate (e.g. brand, test)\n";
 
 }  // namespace
 
@@ -39,11 +40,12 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
                    const std::string& default_plot_script, std::ostream& out, std::ostream& err) {
   CommandLine a;
   std::string parse_error;
-  const bool parsed = a.parse(argc, argv,
-               {"params", "runs", "bag", "report", "orientation", "preset", "candidates", "max-terms",
-                "alpha-locate", "alpha-select", "detection-power", "seed", "plot-script", "force-noise-model",
-                "wear-noise-model", "mechanisms", "input-timeout-s", "update-rate-hz"},
-               {"no-plots"}, &parse_error);
+  const bool parsed =
+      a.parse(argc, argv,
+              {"params", "runs", "bag", "report", "orientation", "preset", "candidates", "max-terms", "alpha-locate",
+               "alpha-select", "detection-power", "seed", "plot-script", "force-noise-model", "wear-noise-model",
+               "mechanisms", "input-timeout-s", "update-rate-hz", "cv-groups"},
+              {"no-plots"}, &parse_error);
   auto usage = [&](const std::string& msg) { return usageError(err, "tread_wear_diagnose", msg, kDiagnoseUsage); };
   if (a.help()) {
     out << kDiagnoseUsage;
@@ -91,6 +93,7 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
     const std::vector<std::string> warnings = screenSideForceSigns(params, opt.model.orientation, &table);
     for (const std::string& w : warnings) err << "tread_wear_diagnose: warning: " << w << "\n";
     DiagnosisData data = buildDiagnosisData(table);
+    if (a.has("cv-groups")) holdOutGroups(&data, a.get("cv-groups"));
     data.warnings = warnings;
     const DiagnosisResult result = diagnose(params, data, opt);
     err << "tread_wear_diagnose: " << result.numerics_decision << "\n";

@@ -77,6 +77,8 @@ double defaultMagnitude(Term term) {
     case Term::kLoadFluctuation: return 0.25;
     case Term::kSensorGain: return 1.08;
     case Term::kSensorOffset: return 4.0;
+    case Term::kContactTimeWear:
+      return 3e-5;  // about 1 mg/s on a road tyre's 0.03 m^2 footprint
     default: {
       const TermInfo& info = termInfo(term);
       return info.user && !info.user->test_magnitudes.empty() ? info.user->test_magnitudes.back()

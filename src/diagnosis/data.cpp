@@ -217,5 +217,26 @@ DiagnosisData buildDiagnosisData(const RunTable& table) {
   return d;
 }
 
+void holdOutGroups(DiagnosisData* data, const std::string& covariate) {
+  std::string known;
+  for (const Covariate& c : data->covariates) {
+    if (!c.categorical) continue;
+    if (c.name != covariate) {
+      known += (known.empty() ? "" : ", ") + c.name;
+      continue;
+    }
+    if (c.levels.size() < 2)
+      throw DiagnosisError("cross-validation groups '" + covariate + "': one level, nothing to hold out");
+    data->cv_groups.clear();
+    for (double v : c.values) data->cv_groups.push_back(covariate + " " + c.levels[static_cast<std::size_t>(v)]);
+    data->cv_scheme = "leave one " + covariate + " out";
+    return;
+  }
+  throw DiagnosisError("cross-validation groups: '" + covariate +
+                       "' is not a categorical covariate of the "
+                       "recordings (those with 2 to n/2 levels: " +
+                       (known.empty() ? "none" : known) + ")");
+}
+
 }  // namespace diagnosis
 }  // namespace tread_wear

@@ -261,35 +261,42 @@ EmpiricalResult fitEmpiricalTerms(const TireParams& base, const DiagnosisData& d
   if (result.explanation != "unexplained") return out;
   out.attempted = true;
   std::vector<std::string> reasons;
-  for (const LocatedEffect& e : result.located_before) {  // sorted by p
-    if (!e.significant || static_cast<int>(out.covariates.size()) >= kMaxCovariates) continue;
-    if (std::find(out.covariates.begin(), out.covariates.end(), e.covariate) != out.covariates.end()) continue;
-    std::string why;
-    const std::vector<TermInfo> family = empiricalFamily(data, e.covariate, e.output, &why);
-    if (family.empty()) {
+  // Covariates first, group offsets last: an offset per group cannot predict a group held out whole, while a
+  // covariate constant within each group (humidity per cycle) can, and is judged by the data's scheme, which holds
+  // out whole groups. The offsets come only when no covariate's term is accepted, as a description of the groups.
+  for (const bool categorical_pass : {false, true}) {
+    for (const LocatedEffect& e : result.located_before) {  // sorted by p
+      if (e.categorical != categorical_pass) continue;
+      if (!e.significant || static_cast<int>(out.covariates.size()) >= kMaxCovariates) continue;
+      if (std::find(out.covariates.begin(), out.covariates.end(), e.covariate) != out.covariates.end()) continue;
+      std::string why;
+      const std::vector<TermInfo> family = empiricalFamily(data, e.covariate, e.output, &why);
+      if (family.empty()) {
+        reasons.push_back(why);
+        continue;
+      }
+      out.covariates.push_back(e.covariate);
+      for (const TermInfo& t : family) out.family.push_back(t.name);
+      EmpiricalTerm term;
+      bool accepted = false;
+      if (e.categorical) {
+        // A batch offset cannot predict a group held out whole: its held-out error is leave one run out, and the
+        // term describes the recorded groups only (empiricalSummary says so).
+        DiagnosisData per_run = data;
+        for (std::size_t i = 0; i < per_run.cv_groups.size(); ++i) per_run.cv_groups[i] = std::to_string(i);
+        per_run.cv_scheme = "leave one run out";
+        accepted = selectFromFamily(base, per_run, options, family, e.covariate, e.output, &term, &out.log, &why);
+      } else {
+        accepted = selectFromFamily(base, data, options, family, e.covariate, e.output, &term, &out.log, &why);
+      }
+      if (accepted) {
+        out.covariate = e.covariate;
+        out.output = e.output;
+        out.terms.push_back(term);
+        return out;
+      }
       reasons.push_back(why);
-      continue;
     }
-    out.covariates.push_back(e.covariate);
-    for (const TermInfo& t : family) out.family.push_back(t.name);
-    EmpiricalTerm term;
-    bool accepted = false;
-    if (e.categorical) {
-      // A batch offset cannot predict a cycle held out whole: its held-out error is leave one run out.
-      DiagnosisData per_run = data;
-      for (std::size_t i = 0; i < per_run.cv_groups.size(); ++i) per_run.cv_groups[i] = std::to_string(i);
-      per_run.cv_scheme = "leave one run out";
-      accepted = selectFromFamily(base, per_run, options, family, e.covariate, e.output, &term, &out.log, &why);
-    } else {
-      accepted = selectFromFamily(base, data, options, family, e.covariate, e.output, &term, &out.log, &why);
-    }
-    if (accepted) {
-      out.covariate = e.covariate;
-      out.output = e.output;
-      out.terms.push_back(term);
-      return out;
-    }
-    reasons.push_back(why);
   }
   if (out.covariates.empty()) reasons.insert(reasons.begin(), "no located covariate an empirical term can be built in");
   for (const std::string& r : reasons) out.reason += (out.reason.empty() ? "" : "; ") + r;
@@ -325,6 +332,7 @@ std::string empiricalSummary(const EmpiricalTerm& t) {
   }
   s << ", held-out " << out << " RMSER " << percent(t.cv_rmser_before) << " -> " << percent(t.cv_rmser_after) << " ("
     << t.cv_scheme << ")";
+  if (t.form == "group_offsets") s << "; describes the recorded groups only: it cannot predict a group not seen";
   return s.str();
 }
 

@@ -9,6 +9,8 @@
 #include <stdexcept>
 
 #include "tread_wear/diagnosis/user_mechanisms.h"
+#include "tread_wear/model/adhesion_wear.h"
+#include "tread_wear/model/contact_patch.h"
 #include "tread_wear/model/point_cells.h"
 
 namespace tread_wear {
@@ -64,6 +66,21 @@ std::vector<TermInfo> makeLibrary() {
   lib.push_back({Term::kSensorOffset, "sensor_offset",
                  "not physics: the side-force transducer reads the true force plus a constant zero offset o [N]",
                  false, {true, false}, {{"side_force_offset_n", 0.0, -30.0, 30.0, false, 0.0, "N"}}, 0});
+  lib.push_back({Term::kContactTimeWear,
+                 "contact_time_wear",
+                 "the tread wears per unit contact time and area, sliding or not (Eq 19's w4 term): W_r += w4 4ab / V",
+                 true,
+                 {false, true},
+                 {{"w4_kg_per_s_m2", 1e-5, 0.0, 1e-3, false, 0.0, "kg/(s m^2)"}},
+                 0});
+  lib.push_back({Term::kAdhesionWear,
+                 "adhesion_wear",
+                 "micro-slip on the road texture wears the tread in the adhesion zone: W_r += K_a E_a, E_a the shear "
+                 "work turned over there per distance (model/adhesion_wear.h)",
+                 true,
+                 {false, true},
+                 {{"adhesion_kg_per_j", 1e-9, 0.0, 1e-6, false, 0.0, "kg/J"}},
+                 0});
   return lib;
 }
 
@@ -159,6 +176,13 @@ bool termApplicable(Term term, const DiagnosisData& data, std::string* why_not) 
     case Term::kSensorGain:
     case Term::kSensorOffset:
       return fy ? true : no("no side force measured");
+    case Term::kContactTimeWear:
+    case Term::kAdhesionWear: {
+      const bool drives =
+          std::any_of(data.runs.begin(), data.runs.end(), [](const DiagnosisRun& r) { return r.isDrive(); });
+      if (!drives) return no("a road term: needs drive segments (extensions.h)");
+      return data.measured_count[1] > 0 ? true : no("no wear measured");
+    }
     default:
       return termInfo(term).user ? userMechanismApplicable(termInfo(term), data, why_not) : true;
   }
@@ -177,6 +201,8 @@ struct DriveCells {
   /// Keyed by preset, orientation and the tire file's friction and wear levels (the models of one data set share a
   /// tire file; the levels keep a model of another file from reading these).
   std::map<std::vector<double>, std::vector<ExtendedModel::RawResult>> fine_base, coarse_base;
+  /// adhesion_wear's shear work E_a [J/m] per fine and coarse cell at the base brush parameters, per orientation.
+  std::map<int, std::vector<double>> fine_adhesion, coarse_adhesion;
 };
 
 namespace {
@@ -221,6 +247,42 @@ std::shared_ptr<DriveCells> buildDriveCells(const DiagnosisData& data) {
     for (const auto& [c, share] : merged) cells->coarse_shares[i].push_back(share);
   }
   return cells;
+}
+
+/// contact_time_wear's 4ab/V [m s] at a point (Eq 19's w4 term per distance); 0 at standstill.
+double contactAreaPerSpeed(const FootprintParams& footprint, const OperatingPoint& op) {
+  if (!(op.speed_mps > 0.0) || !(op.load_n > 0.0)) return 0.0;
+  return 4.0 * footprint.halfLength(op.load_n) * footprint.b_m / op.speed_mps;
+}
+
+/// adhesion_wear's E_a [J/m] at each point, at the tire file's brush parameters (adhesion_wear.h).
+std::vector<double> adhesionWork(const TireParams& base, TurnSlipOrientation orientation,
+                                 const std::vector<const DiagnosisRun*>& points) {
+  TireParams unit = base;
+  unit.wear.adhesion_kg_per_j = 1.0;  // evaluate() returns zeros when the coefficient is 0
+  const AdhesionWear adhesion(unit);
+  std::vector<double> work(points.size(), 0.0);
+  for (std::size_t j = 0; j < points.size(); ++j) {
+    const OperatingPoint& op = points[j]->op;
+    if (!(op.load_n > 0.0) || !(op.speed_mps > 0.0)) continue;
+    const ContactPatch patch(base.footprint, op.load_n);
+    work[j] = adhesion.evaluate(op, patch, op.tipKinematics(orientation), op.rollingSpeed()).work_j_per_m;
+  }
+  return work;
+}
+
+/// adhesionWork of the drive cells, cached per orientation in `store` (DriveCells::fine_adhesion, coarse_adhesion).
+const std::vector<double>& cellAdhesionWork(const TireParams& base, TurnSlipOrientation orientation,
+                                            const std::vector<DiagnosisRun>& cells,
+                                            std::map<int, std::vector<double>>* store) {
+  const int key = static_cast<int>(orientation);
+  auto it = store->find(key);
+  if (it == store->end()) {
+    std::vector<const DiagnosisRun*> points;
+    for (const DiagnosisRun& c : cells) points.push_back(&c);
+    it = store->emplace(key, adhesionWork(base, orientation, points)).first;
+  }
+  return it->second;
 }
 
 /// Steady runs with this key share one brush evaluation (repeats of a condition).
@@ -502,6 +564,17 @@ bool ExtendedModel::predict(const std::vector<double>& values, Prediction* out) 
     }
     return base_.wear.temperature_enabled ? base_.wear.temperatureFactor(temperature_c) : 1.0;
   };
+  // The road wear terms (contact_time_wear, adhesion_wear): additive per distance, no brush re-evaluation.
+  const double w4_extra = has(Term::kContactTimeWear) ? value(Term::kContactTimeWear, 0) : 0.0;
+  const double k_a = has(Term::kAdhesionWear) ? value(Term::kAdhesionWear, 0) : 0.0;
+  const std::vector<double>* cell_work =
+      has(Term::kAdhesionWear) && drive_
+          ? &cellAdhesionWork(base_, brush_options_.orientation, cells,
+                              use_fine ? &drive_->fine_adhesion : &drive_->coarse_adhesion)
+          : nullptr;
+  auto road_terms = [&](const DiagnosisRun& point, double work_j_per_m) {
+    return w4_extra * contactAreaPerSpeed(base_.footprint, point.op) + k_a * work_j_per_m;
+  };
   out->side_force_n.resize(n);
   out->wear_kg_per_m.resize(n);
   for (int i = 0; i < n; ++i) {
@@ -517,13 +590,15 @@ bool ExtendedModel::predict(const std::vector<double>& values, Prediction* out) 
         const RawResult& c = cell_result(s.cell);
         fy_sum += c.fy_n * s.time_s;
         wear_sum += (w3_factor * thermal_w3(cells[s.cell].tread_temperature_c) * c.wear_w3_kg_per_m +
-                     c.wear_w4_kg_per_m) *
+                     c.wear_w4_kg_per_m + road_terms(cells[s.cell], cell_work ? (*cell_work)[s.cell] : 0.0)) *
                     s.distance_m;
       }
       fy = fy_sum / r.drive_time_s;
       wear = wear_sum / r.drive_distance_m;
     } else {
       wear = w3_factor * thermal_w3(r.tread_temperature_c) * raw[i].wear_w3_kg_per_m + raw[i].wear_w4_kg_per_m;
+      if (w4_extra != 0.0 || k_a != 0.0)
+        wear += road_terms(r, k_a != 0.0 ? adhesionWork(base_, brush_options_.orientation, {&r}).front() : 0.0);
     }
     if (has(Term::kSensorGain)) fy *= value(Term::kSensorGain, 0);
     if (has(Term::kSensorOffset)) fy += value(Term::kSensorOffset, 0);

@@ -38,6 +38,8 @@ std::vector<std::pair<std::string, double>> magnitudes(Term t, bool two) {
     case Term::kLoadFluctuation: return {{"small", 0.25}, {"large", 0.40}};
     case Term::kSensorGain: return {{"small", 1.05}, {"large", 1.10}};
     case Term::kSensorOffset: return {{"small", 2.5}, {"large", 5.0}};
+    case Term::kContactTimeWear:
+      return {{"small", 1.5e-5}, {"large", 3e-5}};
     default: {
       const TermInfo& info = termInfo(t);
       if (info.user && info.user->test_magnitudes.size() == 2)
@@ -133,7 +135,8 @@ std::vector<HarnessCase> harnessCases(const HarnessOptions& options) {
   const bool drives = options.design == "drives";
   if (effects.empty() && drives) effects = {termInfo(Term::kThermalWear).name, kRoughRoadEffect};
   if (effects.empty())
-    for (const TermInfo& t : termLibrary()) effects.push_back(t.name);
+    for (const TermInfo& t : termLibrary())  // the road wear terms apply to drive segments only (extensions.h)
+      if (t.term != Term::kContactTimeWear && t.term != Term::kAdhesionWear) effects.push_back(t.name);
   std::uint64_t seed = options.seed;
   for (double wn : options.wear_noise) {
     const double fn = options.side_force_noise_n * wn / 0.05;

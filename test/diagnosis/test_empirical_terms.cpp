@@ -7,8 +7,11 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "tread_wear/diagnosis/conceal.h"
 #include "tread_wear/diagnosis/diagnosis.h"
@@ -80,7 +83,10 @@ TEST(EmpiricalTerms, ConcealedHumidityGetsAnEmpiricalTermThatImprovesTheHeldOutE
 
 // A per-cycle batch effect (config/mechanisms/out_of_library.yaml: wear x (1 + b sin(2.4 cycle_id + 1)), b = 0.2,
 // so cycle 3 reads 19% high and cycle 4 18% low against cycle 1's 5% low) gets offsets per cycle, whose held-out
-// error is leave one run out: leave one cycle out could not predict a held-out cycle's offset.
+// error is leave one run out: leave one cycle out could not predict a held-out cycle's offset. Without a recorded
+// per-cycle covariate: the generator's ambient_c (one value per cycle) is dropped, since a covariate term in it is
+// tried first and, judged by whole cycles left out, may describe six cycle levels with two parameters (at this seed
+// a quadratic in ambient_c does; PerCycleRecordedCovariateWinsOverCycleOffsets is that case on purpose).
 TEST(EmpiricalTerms, ConcealedBatchEffectGetsCycleOffsets) {
   RunTable table;
   {
@@ -91,6 +97,11 @@ TEST(EmpiricalTerms, ConcealedBatchEffectGetsCycleOffsets) {
     spec.seed = 1078;
     table = concealEffect(loadTireParams(kParams), spec).table;
   }
+  const auto ambient = std::find(table.covariate_names.begin(), table.covariate_names.end(), "ambient_c");
+  ASSERT_NE(ambient, table.covariate_names.end());
+  const auto column = ambient - table.covariate_names.begin();
+  table.covariate_names.erase(ambient);
+  for (RunRecord& r : table.runs) r.covariates.erase(r.covariates.begin() + column);
   const DiagnosisData data = buildDiagnosisData(table);
   const DiagnosisResult r = diagnose(loadTireParams(kParams), data, options());
   EXPECT_EQ(r.explanation, "unexplained");
@@ -102,6 +113,38 @@ TEST(EmpiricalTerms, ConcealedBatchEffectGetsCycleOffsets) {
   ASSERT_EQ(t.parameters.size(), 5u);     // cycles 2..6 against cycle 1
   EXPECT_GT(t.parameters[1].value, 0.0);  // cycle 3 above cycle 1
   EXPECT_LT(t.parameters[2].value, 0.0);  // cycle 4 below
+}
+
+// A recorded covariate constant within each test cycle (the generator's ambient_c, one value per cycle) that
+// explains the wear: wear x exp(k (ambient_c - 23 degC)), k = -0.06 /K (about +-18% over the cycles' +-3 degC).
+// The located effects include cycle_id as well; one offset per cycle (5 parameters) cannot predict a cycle held out
+// whole, while the covariate's one parameter can: the covariate's term must win, judged leaving whole cycles out.
+TEST(EmpiricalTerms, PerCycleRecordedCovariateWinsOverCycleOffsets) {
+  ConcealSpec spec;  // a control on the Table 2 design (six cycles), then the covariate's effect on the wear
+  spec.seed = 4242;
+  RunTable table = concealEffect(loadTireParams(kParams), spec).table;
+  const int ambient =
+      static_cast<int>(std::find(table.covariate_names.begin(), table.covariate_names.end(), "ambient_c") -
+                       table.covariate_names.begin());
+  ASSERT_LT(ambient, static_cast<int>(table.covariate_names.size()));
+  std::map<int, std::set<double>> per_cycle;
+  for (RunRecord& r : table.runs) {
+    per_cycle[r.cycle_id].insert(r.covariates[ambient]);
+    r.measured_wear_rate_kg_per_m *= std::exp(-0.06 * (r.covariates[ambient] - 23.0));
+  }
+  ASSERT_EQ(per_cycle.size(), 6u);
+  for (const auto& [cycle, values] : per_cycle) ASSERT_EQ(values.size(), 1u) << "cycle " << cycle;
+  const DiagnosisData data = buildDiagnosisData(table);
+  ASSERT_EQ(data.cv_scheme, "leave one cycle out");
+  const DiagnosisResult r = diagnose(loadTireParams(kParams), data, options());
+  EXPECT_EQ(r.explanation, "unexplained");
+  ASSERT_EQ(r.empirical.terms.size(), 1u) << r.empirical.reason;
+  const EmpiricalTerm& t = r.empirical.terms[0];
+  EXPECT_EQ(t.covariate, "ambient_c");
+  EXPECT_NE(t.form, "group_offsets");
+  EXPECT_EQ(t.cv_scheme, "leave one cycle out");  // judged by whole cycles left out
+  EXPECT_LT(t.parameters.at(0).value, 0.0);
+  EXPECT_LT(t.cv_rmser_after, t.cv_rmser_before);
 }
 
 TEST(EmpiricalTerms, ControlIsNoneWithoutEmpiricalTerm) {

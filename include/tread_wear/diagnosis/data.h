@@ -88,6 +88,12 @@ struct DiagnosisData {
   std::vector<std::string> warnings;
 };
 
+/// Cross-validation by whole groups of a categorical covariate (e.g. the text covariates `brand` or `test` of a
+/// drive bag): every fold holds out all runs of one of its levels, cv_scheme "leave one <covariate> out". A term
+/// with one offset per group then cannot predict a group it has not seen. @throw DiagnosisError when `covariate` is
+/// not a categorical covariate of the data (the error lists those that are) or it has fewer than 2 levels.
+void holdOutGroups(DiagnosisData* data, const std::string& covariate);
+
 /// Builds the diagnosis records from a run table. @throw DiagnosisError when fewer than 4 runs have a
 /// measurement or a measured value is not positive (the relative errors of Eq 24 need a positive value).
 DiagnosisData buildDiagnosisData(const RunTable& table);

@@ -21,9 +21,12 @@
 /// The covariates: the significant located effects in order of their p-value whose covariate an expression can read
 /// (an operating variable, a numeric recorded column, or cycle_id; not the predicted output level, not another
 /// categorical one such as condition_id: the result says why), up to three; each one's family goes through its own
-/// selection (its own Bonferroni) until a term is accepted. Held-out error: the data's scheme (leave one cycle out),
-/// except for cycle offsets, whose held-out error is leave one run out (a batch offset cannot predict a cycle held
-/// out whole).
+/// selection (its own Bonferroni) until a term is accepted. The numeric covariates come first, cycle offsets only
+/// when none of theirs is accepted: a covariate constant within each cycle (humidity per cycle) is judged by the
+/// data's scheme, which holds out whole cycles (or brands, tests: data.h, holdOutGroups), and one parameter in it
+/// beats five offsets that cannot predict a cycle held out whole. Held-out error: the data's scheme, except for the
+/// cycle offsets, whose held-out error is leave one run out; they describe the recorded cycles only (the summary says
+/// so).
 /// Thread safety: the family joins the calling thread's library only (extensions.h, setThreadLibrary).
 
 #include <string>

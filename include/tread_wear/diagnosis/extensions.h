@@ -16,6 +16,12 @@
 ///   turn_slip_orientation  the other orientation of alpha against the track curve          side force, wear
 ///   sensor_gain          measured Fy = g Fy (force transducer gain; not physics)           side force
 ///   sensor_offset        measured Fy = Fy + o (force transducer zero offset; not physics)  side force
+///   contact_time_wear    W_r += w4 4ab / V: the paper's non-sliding wear (Eq 19's per-time term) on top of the
+///                        file's w4, a, b the footprint's at the load (no brush evaluation)            wear
+///   adhesion_wear        W_r += K_a E_a: adhesion-zone micro-slip (model/adhesion_wear.h) on top of the file's,
+///                        E_a at the base brush parameters (it does not follow mu_scale or the friction terms)  wear
+/// The two wear terms of the road (contact_time_wear, adhesion_wear) apply to drive segments only: on the rig's
+/// steady programmes they would compete with the rig's own terms, whose proofs were made without them.
 /// User-defined mechanisms (user_mechanisms.h) follow the built-in terms in the library (Term::kFirstUser on) and
 /// are applied after them, in the order of the model's terms.
 /// W_r splits exactly into the w3 part and the w4 part w4 4ab/V (Eq 19-20: w4 acts on the whole patch), so the
@@ -28,9 +34,10 @@
 /// Drive segments (DiagnosisRun::isDrive) are predicted from their integrated operating points, binned into cells
 /// (point_cells.h) at two resolutions that all segments share: fine cells (the default PointCellParams, within
 /// 0.25% of the replay's wear per segment, docs/diagnosis.md) and coarse ones (4 times the load width, 5 times the
-/// slip widths, 15 times the speed width, 6 times the curvature width, 3 degC; about 8 times fewer cells). The fine cells are evaluated once per preset at the base brush parameters (mu_scale 1, no
-/// friction, compliance or spread term; cached with the data: DiagnosisData::drive_cells); a fit re-simulates only
-/// the coarse cells and carries the change to the fine cells it contains:
+/// slip widths, 15 times the speed width, 6 times the curvature width, 3 degC; about 8 times fewer cells). The fine
+/// cells are evaluated once per preset at the base brush parameters (mu_scale 1, no friction, compliance or spread
+/// term; cached with the data: DiagnosisData::drive_cells); a fit re-simulates only the coarse cells and carries the
+/// change to the fine cells it contains:
 ///   Fy = Fy_fine,base + (Fy_coarse - Fy_coarse,base),  W_r,w3 = W_r,w3,fine,base x W_r,w3,coarse / W_r,w3,coarse,base,
 /// W_r,w4 (load and speed only) from the fine cell. A change of the parameters moves W_r smoothly across a coarse
 /// cell, so the ratio carries it to second order where W_r itself (steep in slip) would not. A segment's W_r is
@@ -66,6 +73,8 @@ enum class Term {
   kTurnSlipOrientation,
   kSensorGain,
   kSensorOffset,
+  kContactTimeWear,
+  kAdhesionWear,
   kFirstUser  ///< the first user-defined term, if any
 };
 

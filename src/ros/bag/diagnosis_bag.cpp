@@ -1,15 +1,18 @@
 #include "tread_wear/ros/bag/diagnosis_bag.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <memory>
 #include <stdexcept>
+#include <tuple>
 
 #include <geometry_msgs/WrenchStamped.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 #include <std_msgs/Float64.h>
 #include <std_msgs/Int32.h>
+#include <std_msgs/String.h>
 
 #include "tread_wear/estimation/drive_segments.h"
 #include "tread_wear/ros/bag/bag_check.h"
@@ -33,6 +36,28 @@ struct WheelRecord {
 };
 
 constexpr const char* kInputNames[kInputKindCount] = {"load", "slip", "speed", "tread_temperature"};
+/// Bag-wide recorded covariates (std_msgs/String "name=value"), in effect from their stamp on.
+constexpr const char* kCovariateTopic = "measured/covariate";
+
+/// The covariate messages as (time, name, value), in time order; the names in first-seen order.
+std::vector<std::tuple<double, std::string, std::string>> readCovariates(rosbag::Bag& bag, const std::string& path,
+                                                                         const std::string& topic,
+                                                                         std::vector<std::string>* names) {
+  std::vector<std::tuple<double, std::string, std::string>> out;
+  for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery(topic))) {
+    auto msg = m.instantiate<std_msgs::String>();
+    if (!msg) throw std::runtime_error(path + ": " + topic + " is not std_msgs/String");
+    const std::size_t eq = msg->data.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == msg->data.size())
+      throw std::runtime_error(path + ": " + topic + " at t = " + std::to_string(m.getTime().toSec()) + ": '" +
+                               msg->data + "' is not name=value");
+    const std::string name = msg->data.substr(0, eq);
+    if (name == "wheel") throw std::runtime_error(path + ": " + topic + ": 'wheel' is the reader's own covariate");
+    if (std::find(names->begin(), names->end(), name) == names->end()) names->push_back(name);
+    out.emplace_back(m.getTime().toSec(), name, msg->data.substr(eq + 1));
+  }
+  return out;
+}
 
 }  // namespace
 
@@ -71,6 +96,11 @@ RunTable readDiagnosisBag(const std::string& path, const TireParams& tire, const
       throw std::runtime_error(path + ": no topic wheels/<name>/measured/mass or wheels/<name>/measured/tread_depth "
                                       "(std_msgs/Float64 checkpoints)");
     const double mass_per_depth = tire.material.massPerDepth_kg_per_m();
+    std::vector<std::string> covariate_names;
+    const auto covariates = topics.count(kCovariateTopic)
+                                ? readCovariates(bag, path, topics.at(kCovariateTopic), &covariate_names)
+                                : std::vector<std::tuple<double, std::string, std::string>>{};
+    for (const std::string& name : covariate_names) table.text_covariate_names.push_back(name);
 
     // Pass 1: the measurements.
     std::map<std::string, std::pair<WheelRecord*, int>> measured;  // bag topic -> (wheel, 0 checkpoint 1 cycle 2 Fy)
@@ -169,6 +199,13 @@ RunTable readDiagnosisBag(const std::string& path, const TireParams& tire, const
         r.run_order = static_cast<int>(j + 1);
         r.covariates = {seg.distance_m, seg.end_s - seg.start_s, loss};
         r.text_covariates = {w.name};
+        // Each recorded covariate as in effect before the segment's end (as the cycle), "unknown" before its first.
+        for (const std::string& name : covariate_names) {
+          std::string value = "unknown";
+          for (const auto& [tc, n, v] : covariates)
+            if (n == name && tc < seg.end_s) value = v;
+          r.text_covariates.push_back(value);
+        }
         if (!r.op.validate(&error)) throw std::runtime_error(where + ": " + error);
         table.runs.push_back(std::move(r));
       }

@@ -2,8 +2,12 @@
 // with time-weighted means computed by hand here, messages stamped at a checkpoint go to the segment that starts
 // there, malformed bags get errors naming the bag and the problem, and the documented example bag
 // (examples/diagnosis/make_bag.py) gives back the run table it was written from and the same verdict.
+#include <geometry_msgs/WrenchStamped.h>
 #include <gtest/gtest.h>
 #include <rosbag/bag.h>
+#include <std_msgs/Float64.h>
+#include <std_msgs/Int32.h>
+#include <std_msgs/String.h>
 
 #include <cmath>
 #include <cstdio>
@@ -13,17 +17,13 @@
 #include <sstream>
 #include <string>
 
-#include <geometry_msgs/WrenchStamped.h>
-#include <std_msgs/Float64.h>
-#include <std_msgs/Int32.h>
-
 #include "tread_wear/TreadTemperature.h"
 #include "tread_wear/WheelLoad.h"
 #include "tread_wear/WheelSlip.h"
 #include "tread_wear/WheelSpeed.h"
 #include "tread_wear/cli/diagnose_cli.h"
-#include "tread_wear/ros/bag/diagnosis_bag.h"
 #include "tread_wear/io/params_io.h"
+#include "tread_wear/ros/bag/diagnosis_bag.h"
 
 namespace tread_wear {
 namespace diagnosis {
@@ -79,6 +79,12 @@ class DiagnosisBagWriter {
     std_msgs::Int32 c;
     c.data = id;
     write("measured/cycle", t, c);
+  }
+  /// A bag-wide recorded covariate, "name=value" (measured/covariate).
+  void covariate(double t, const std::string& text) {
+    std_msgs::String c;
+    c.data = text;
+    bag_.write("measured/covariate", ros::Time(t), c);
   }
   const std::string& close() {
     bag_.close();
@@ -184,6 +190,38 @@ TEST(DiagnosisBag, SegmentsBecomeRunsWithTrapezoidMeansOnTheReplayGrid) {
   for (const WeightedOperatingPoint& p : b.drive_points) d += p.distance_m;
   EXPECT_NEAR(d, distance_b, 1e-9);
   ASSERT_EQ(b.drive_points.size(), 2u);
+}
+
+// Recorded covariates (measured/covariate, "name=value"): each segment gets the value in effect before its end, a
+// message stamped at a checkpoint opens the next segment (as the cycle), "unknown" before the first; a message that
+// is not name=value is an error naming it.
+TEST(DiagnosisBag, RecordedCovariatesBecomeTextCovariatesPerSegment) {
+  DiagnosisBagWriter w("diagnosis_covariates.bag");
+  w.mass(kT0, 0.100);
+  w.covariate(kT0, "test=Run-in");
+  w.inputs(kT0, 2.0, -0.17, 73.0, 40.0);
+  w.covariate(kT0 + 5.0, "brand=Michelin");  // within segment 1
+  w.mass(kT0 + 10.0, 0.100 - 3e-6);
+  w.covariate(kT0 + 10.0, "test=Rural");  // at the checkpoint: segment 2
+  w.inputs(kT0 + 15.0, 2.0, -0.17, 73.0, 40.0);
+  w.mass(kT0 + 20.0, 0.100 - 5e-6);
+  w.covariate(kT0 + 20.0, "test=Urban");  // at the last checkpoint: no segment follows
+  w.inputs(kT0 + 20.0, 2.0, -0.17, 73.0, 40.0);
+  const RunTable t = readDiagnosisBag(w.close(), rigTire(), heldInputs(10.0));
+  ASSERT_EQ(t.runs.size(), 2u);
+  EXPECT_EQ(t.text_covariate_names, (std::vector<std::string>{"wheel", "test", "brand"}));
+  EXPECT_EQ(t.runs[0].text_covariates, (std::vector<std::string>{"fl", "Run-in", "Michelin"}));
+  EXPECT_EQ(t.runs[1].text_covariates, (std::vector<std::string>{"fl", "Rural", "Michelin"}));
+
+  DiagnosisBagWriter bad("diagnosis_covariate_bad.bag");
+  bad.mass(kT0, 0.100);
+  bad.covariate(kT0, "Run-in");
+  bad.inputs(kT0, 2.0, -0.17, 73.0, 40.0);
+  bad.mass(kT0 + 10.0, 0.100 - 3e-6);
+  bad.inputs(kT0 + 10.0, 2.0, -0.17, 73.0, 40.0);
+  const std::string e = errorOf(bad.close());
+  EXPECT_NE(e.find("measured/covariate"), std::string::npos) << e;
+  EXPECT_NE(e.find("'Run-in' is not name=value"), std::string::npos) << e;
 }
 
 // A tread-depth gauge instead of a scale: the loss is the depth difference times the mass of a uniform tread layer

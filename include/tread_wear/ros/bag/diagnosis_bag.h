@@ -16,6 +16,11 @@
 ///                                                               [N] (optional)
 ///   wheels/<w>/measured/cycle      std_msgs/Int32               surface cycle id from then on (optional; a message
 ///                                                               stamped at a checkpoint belongs to the next segment)
+///   measured/covariate             std_msgs/String              a recorded covariate of every wheel from then on,
+///                                                               "name=value" (optional; e.g. test=Rural,
+///                                                               brand=Michelin): a text covariate `name` per segment,
+///                                                               the value in effect before the segment's end (as the
+///                                                               cycle), "unknown" before the first
 /// Each wheel's inputs go through DriveSegmenter (estimation/drive_segments.h): the replay's grid, staleness and
 /// integration rules, so a segment's prediction is the model integrated over its time series, not the model at
 /// its means. Per segment: the operating points with their weights, integrated time and distance, the means of
