@@ -5,9 +5,11 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <set>
 #include <stdexcept>
 
+#include "tread_wear/diagnosis/parallel_for.h"
 #include "tread_wear/diagnosis/user_mechanisms.h"
 #include "tread_wear/model/point_cells.h"
 
@@ -177,6 +179,10 @@ struct DriveCells {
   /// Keyed by preset, orientation and the tire file's friction and wear levels (the models of one data set share a
   /// tire file; the levels keep a model of another file from reading these).
   std::map<std::vector<double>, std::vector<ExtendedModel::RawResult>> fine_base, coarse_base;
+  /// Brush results of the steady runs and the coarse cells per (preset key, brush parameters), shared by every
+  /// model of the data (ExtendedModel::rawResults); guarded with the stores above by raw_cache_lock.
+  std::map<std::vector<double>, std::vector<ExtendedModel::RawResult>> raw_cache;
+  std::mutex raw_cache_lock;
 };
 
 namespace {
@@ -367,172 +373,255 @@ ExtendedModel::RawResult ExtendedModel::evaluateRun(const BrushWearModel& model,
                    avg(lo.wear_w4_kg_per_m, mid.wear_w4_kg_per_m, hi.wear_w4_kg_per_m)};
 }
 
+ExtendedModel::BrushSetting ExtendedModel::brushSetting(const std::vector<double>& values) const {
+  auto value = [&](Term t, double otherwise) { return has(t) ? values[parameterOffset(t)] : otherwise; };
+  return BrushSetting{values[1], value(Term::kThermalFriction, 0.0), value(Term::kLateralCompliance, 0.0),
+                      value(Term::kPressureFriction, base_.friction.q), value(Term::kLoadFluctuation, 0.0)};
+}
+
+bool ExtendedModel::evaluatePoints(const BrushSetting& s, const std::vector<const DiagnosisRun*>& points,
+                                   std::vector<RawResult>* raw) const {
+  TireParams p = base_;
+  p.friction.mu_0 *= s.mu_scale;
+  p.friction.mu_m *= s.mu_scale;
+  p.friction.q = s.q;
+  p.wear.temperature_enabled = false;  // Eq 25 is applied after the brush evaluation
+  // Each point's brush model: one per tread temperature with thermal_friction, else one for all. The models are
+  // built here, serially; the evaluations below run in parallel and write only their own slots.
+  std::vector<const BrushWearModel*> model_of(points.size(), nullptr);
+  std::map<long, std::unique_ptr<BrushWearModel>> models;
+  if (s.k_t != 0.0) {
+    // One brush model per tread temperature, to kThermalFrictionResolution_c: drive cells share them (a cell's
+    // friction factor is then off by at most k_T x 0.05 degC, below 1e-4 for any plausible k_T).
+    const double t_ref = termInfo(Term::kThermalFriction).temperature_ref_c;
+    for (std::size_t j = 0; j < points.size(); ++j) {
+      if (points[j] == nullptr) continue;
+      if (!std::isfinite(points[j]->tread_temperature_c)) return false;  // the term needs the temperature
+      const long t_key = std::lround(points[j]->tread_temperature_c / kThermalFrictionResolution_c);
+      auto it = models.find(t_key);
+      if (it == models.end()) {
+        const double factor = 1.0 - s.k_t * (t_key * kThermalFrictionResolution_c - t_ref);
+        if (!(factor > 0.05)) return false;  // friction would vanish: outside the term's validity
+        TireParams pj = p;
+        pj.friction.mu_0 *= factor;
+        pj.friction.mu_m *= factor;
+        it = models.emplace(t_key, std::make_unique<BrushWearModel>(pj, brush_options_)).first;
+      }
+      model_of[j] = it->second.get();
+    }
+  } else {
+    const BrushWearModel* shared = models.emplace(0, std::make_unique<BrushWearModel>(p, brush_options_))
+                                       .first->second.get();
+    for (std::size_t j = 0; j < points.size(); ++j)
+      if (points[j] != nullptr) model_of[j] = shared;
+  }
+  // Repeats of a condition under one model share one evaluation: the first of them computes it.
+  std::vector<std::size_t> first_of(points.size());
+  std::vector<std::size_t> unique;
+  std::map<std::pair<const BrushWearModel*, std::array<double, 6>>, std::size_t> seen;
+  for (std::size_t j = 0; j < points.size(); ++j) {
+    if (points[j] == nullptr) continue;
+    const auto it = seen.emplace(std::make_pair(model_of[j], steadyKey(*points[j])), j).first;
+    first_of[j] = it->second;
+    if (it->second == j) unique.push_back(j);
+  }
+  parallelFor(unique.size(), options_.jobs, [&](std::size_t u) {
+    const std::size_t j = unique[u];
+    (*raw)[j] = evaluateRun(*model_of[j], *points[j], s.compliance, s.load_std_scale);
+  });
+  for (std::size_t j = 0; j < points.size(); ++j)
+    if (points[j] != nullptr) (*raw)[j] = (*raw)[first_of[j]];
+  cellsEvaluated() += static_cast<long>(unique.size());
+  return true;
+}
+
+double ExtendedModel::w3Factor(const std::vector<double>& values, const DiagnosisRun& run) const {
+  double f = values[0];
+  if (has(Term::kSurfacePolishing))
+    f *= std::exp(-values[parameterOffset(Term::kSurfacePolishing)] * run.cumulative_sliding_m / 1000.0);
+  return f;
+}
+
+double ExtendedModel::thermalW3(const std::vector<double>& values, double temperature_c) const {
+  if (has(Term::kThermalWear)) {
+    const double d = temperature_c - values[parameterOffset(Term::kThermalWear)];
+    const double s = values[parameterOffset(Term::kThermalWear) + 1];
+    return std::exp(d * d / (2.0 * s * s));
+  }
+  return base_.wear.temperature_enabled ? base_.wear.temperatureFactor(temperature_c) : 1.0;
+}
+
+std::size_t ExtendedModel::coarseDriveCells() const { return drive_ ? drive_->coarse.size() : 0; }
+
+bool ExtendedModel::coarseCellContributions(const std::vector<double>& values, const std::vector<int>& cells,
+                                            std::vector<std::vector<CellContribution>>* out) const {
+  if (!options_.coarse_drive_cells || !drive_)
+    throw std::logic_error("coarseCellContributions needs drive segments and coarse_drive_cells");
+  if (static_cast<int>(values.size()) != num_parameters_) return false;
+  std::vector<const DiagnosisRun*> points;
+  for (int c : cells) points.push_back(&drive_->coarse.at(static_cast<std::size_t>(c)));
+  std::vector<RawResult> raw(points.size());
+  try {
+    if (!evaluatePoints(brushSetting(values), points, &raw)) return false;
+  } catch (const std::exception&) {
+    return false;
+  }
+  std::map<int, std::size_t> slot;  // coarse cell -> position in `cells`
+  for (std::size_t k = 0; k < cells.size(); ++k) slot.emplace(cells[k], k);
+  out->assign(cells.size(), {});
+  const double gain = has(Term::kSensorGain) ? values[parameterOffset(Term::kSensorGain)] : 1.0;
+  for (std::size_t i = 0; i < data_.runs.size(); ++i) {
+    const DiagnosisRun& r = data_.runs[i];
+    if (!r.isDrive()) continue;
+    const double w3_factor = w3Factor(values, r);
+    for (const DriveCells::Share& s : drive_->coarse_shares[i]) {
+      const auto found = slot.find(s.cell);
+      if (found == slot.end()) continue;
+      const RawResult& c = raw[found->second];
+      const double temperature_c = drive_->coarse[static_cast<std::size_t>(s.cell)].tread_temperature_c;
+      (*out)[found->second].push_back(
+          {static_cast<int>(i), gain * c.fy_n * s.time_s / r.drive_time_s,
+           (w3_factor * thermalW3(values, temperature_c) * c.wear_w3_kg_per_m + c.wear_w4_kg_per_m) * s.distance_m /
+               r.drive_distance_m});
+    }
+  }
+  return true;
+}
+
+const std::vector<ExtendedModel::RawResult>* ExtendedModel::rawResults(const std::vector<double>& values) const {
+  const BrushSetting s = brushSetting(values);
+  std::vector<double> key = {s.mu_scale, s.k_t, s.compliance, s.q, s.load_std_scale};
+  // With drive segments the cache lives with the data's cells, so that every model of a diagnosis (each fit, each
+  // fold, each check) shares it: a cell is evaluated once per preset, orientation and brush parameters.
+  std::map<std::vector<double>, std::vector<RawResult>>& cache = drive_ ? drive_->raw_cache : cache_;
+  std::unique_lock<std::mutex> lock;
+  if (drive_) {
+    lock = std::unique_lock<std::mutex>(drive_->raw_cache_lock);
+    const std::vector<double> prefix = presetKey();
+    key.insert(key.begin(), prefix.begin(), prefix.end());
+  }
+  auto found = cache.find(key);
+  if (found != cache.end()) return &found->second;
+  const int n = static_cast<int>(data_.runs.size());
+  const std::vector<DiagnosisRun> no_cells;
+  const std::vector<DiagnosisRun>& coarse = drive_ ? drive_->coarse : no_cells;
+  std::vector<const DiagnosisRun*> points(n + coarse.size(), nullptr);
+  for (int i = 0; i < n; ++i)
+    if (!data_.runs[i].isDrive()) points[i] = &data_.runs[i];
+  for (std::size_t c = 0; c < coarse.size(); ++c) points[n + c] = &coarse[c];
+  std::vector<RawResult> raw(points.size());
+  try {
+    if (!evaluatePoints(s, points, &raw)) return nullptr;
+  } catch (const std::exception&) {
+    return nullptr;
+  }
+  brush_evaluations_ += static_cast<long>(evaluationPoints());
+  if (cache.size() >= kCacheEntries) cache.clear();
+  return &cache.emplace(key, std::move(raw)).first->second;
+}
+
+std::vector<double> ExtendedModel::presetKey() const {
+  return {static_cast<double>(options_.preset),
+          static_cast<double>(brush_options_.orientation),
+          base_.friction.mu_0,
+          base_.friction.mu_m,
+          base_.friction.q,
+          base_.wear.w3_kg_per_s_m2,
+          base_.wear.w4_kg_per_s_m2,
+          base_.footprint.b_m};
+}
+
+bool ExtendedModel::fineDriveResults(const std::vector<double>& values, const std::vector<RawResult>& raw,
+                                     std::vector<RawResult>* fine) const {
+  const int n = static_cast<int>(data_.runs.size());
+  const std::vector<double> preset_key = presetKey();
+  auto base_results = [&](const std::vector<DiagnosisRun>& cells,
+                          std::map<std::vector<double>, std::vector<RawResult>>* store) -> const std::vector<RawResult>& {
+    std::lock_guard<std::mutex> lock(drive_->raw_cache_lock);
+    auto it = store->find(preset_key);
+    if (it == store->end()) {
+      std::vector<RawResult> r(cells.size());
+      TireParams b = base_;
+      b.wear.temperature_enabled = false;
+      const BrushWearModel model(b, brush_options_);
+      parallelFor(cells.size(), options_.jobs, [&](std::size_t c) { r[c] = evaluateRun(model, cells[c], 0.0, 0.0); });
+      cellsEvaluated() += static_cast<long>(cells.size());
+      it = store->emplace(preset_key, std::move(r)).first;
+    }
+    return it->second;
+  };
+  try {
+    *fine = base_results(drive_->fine, &drive_->fine_base);
+    const BrushSetting s = brushSetting(values);
+    const bool at_base = s.mu_scale == 1.0 && s.k_t == 0.0 && s.compliance == 0.0 && s.q == base_.friction.q;
+    if (at_base) return true;
+    const std::vector<RawResult>& coarse_base = base_results(drive_->coarse, &drive_->coarse_base);
+    for (std::size_t c = 0; c < fine->size(); ++c) {
+      const int m = drive_->coarse_of_fine[c];
+      const RawResult& now = raw[n + m];
+      const RawResult& then = coarse_base[m];
+      RawResult& f = (*fine)[c];
+      f.fy_n += now.fy_n - then.fy_n;
+      f.wear_w3_kg_per_m =
+          then.wear_w3_kg_per_m > 0.0 ? f.wear_w3_kg_per_m * now.wear_w3_kg_per_m / then.wear_w3_kg_per_m
+                                      : now.wear_w3_kg_per_m;
+    }
+  } catch (const std::exception&) {
+    return false;
+  }
+  return true;
+}
+
 bool ExtendedModel::predict(const std::vector<double>& values, Prediction* out) const {
   if (static_cast<int>(values.size()) != num_parameters_) return false;
   for (double v : values)
     if (!std::isfinite(v)) return false;
-  const double w3_scale = values[0], mu_scale = values[1];
-  auto value = [&](Term t, int k) { return values[parameterOffset(t) + k]; };
-  const double k_t = has(Term::kThermalFriction) ? value(Term::kThermalFriction, 0) : 0.0;
-  const double compliance = has(Term::kLateralCompliance) ? value(Term::kLateralCompliance, 0) : 0.0;
-  const double q = has(Term::kPressureFriction) ? value(Term::kPressureFriction, 0) : base_.friction.q;
-  const double load_std_scale = has(Term::kLoadFluctuation) ? value(Term::kLoadFluctuation, 0) : 0.0;
-  const std::vector<double> key = {mu_scale, k_t, compliance, q, load_std_scale};
-  const bool at_base = mu_scale == 1.0 && k_t == 0.0 && compliance == 0.0 && q == base_.friction.q;
+  const std::vector<RawResult>* found = rawResults(values);
+  if (found == nullptr) return false;
+  const std::vector<RawResult>& raw = *found;
   const int n = static_cast<int>(data_.runs.size());
-  const std::vector<DiagnosisRun> no_cells;
-  const std::vector<DiagnosisRun>& coarse = drive_ ? drive_->coarse : no_cells;
-  const int n_coarse = static_cast<int>(coarse.size());
-
-  // The brush model at these values for the runs in `points` (run j of `points`, or steady run j of the data).
-  TireParams p = base_;
-  p.friction.mu_0 *= mu_scale;
-  p.friction.mu_m *= mu_scale;
-  p.friction.q = q;
-  p.wear.temperature_enabled = false;  // Eq 25 is applied below, after the brush evaluation
-  auto evaluate = [&](const std::vector<const DiagnosisRun*>& points, std::vector<RawResult>* raw) {
-    if (k_t != 0.0) {
-      // One brush model per tread temperature, to kThermalFrictionResolution_c: drive cells share them (a cell's
-      // friction factor is then off by at most k_T x 0.05 degC, below 1e-4 for any plausible k_T).
-      const double t_ref = termInfo(Term::kThermalFriction).temperature_ref_c;
-      std::map<long, std::unique_ptr<BrushWearModel>> models;
-      for (std::size_t j = 0; j < points.size(); ++j) {
-        if (points[j] == nullptr) continue;
-        if (!std::isfinite(points[j]->tread_temperature_c)) return false;  // the term needs the temperature
-        const long t_key = std::lround(points[j]->tread_temperature_c / kThermalFrictionResolution_c);
-        auto it = models.find(t_key);
-        if (it == models.end()) {
-          const double factor = 1.0 - k_t * (t_key * kThermalFrictionResolution_c - t_ref);
-          if (!(factor > 0.05)) return false;  // friction would vanish: outside the term's validity
-          TireParams pj = p;
-          pj.friction.mu_0 *= factor;
-          pj.friction.mu_m *= factor;
-          it = models.emplace(t_key, std::make_unique<BrushWearModel>(pj, brush_options_)).first;
-        }
-        (*raw)[j] = evaluateRun(*it->second, *points[j], compliance, load_std_scale);
-      }
-      return true;
-    }
-    const BrushWearModel model(p, brush_options_);
-    // Repeats of a condition share one evaluation.
-    std::map<std::array<double, 6>, RawResult> seen;
-    for (std::size_t j = 0; j < points.size(); ++j) {
-      if (points[j] == nullptr) continue;
-      auto it = seen.find(steadyKey(*points[j]));
-      if (it == seen.end())
-        it = seen.emplace(steadyKey(*points[j]), evaluateRun(model, *points[j], compliance, load_std_scale)).first;
-      (*raw)[j] = it->second;
-    }
-    return true;
-  };
-
-  // Raw brush results of the steady runs (0..n-1; unused for drive segments) and the coarse cells (n..).
-  auto found = cache_.find(key);
-  if (found == cache_.end()) {
-    std::vector<const DiagnosisRun*> points(n + n_coarse, nullptr);
-    for (int i = 0; i < n; ++i)
-      if (!data_.runs[i].isDrive()) points[i] = &data_.runs[i];
-    for (int c = 0; c < n_coarse; ++c) points[n + c] = &coarse[c];
-    std::vector<RawResult> raw(points.size());
-    try {
-      if (!evaluate(points, &raw)) return false;
-    } catch (const std::exception&) {
-      return false;
-    }
-    brush_evaluations_ += static_cast<long>(evaluationPoints());
-    if (cache_.size() >= kCacheEntries) cache_.clear();
-    found = cache_.emplace(key, std::move(raw)).first;
-  }
-  const std::vector<RawResult>& raw = found->second;
 
   // The drive cells' results: the coarse ones as they are, or the fine ones at the base values carried to these
   // values by the coarse ones' change (extensions.h).
   std::vector<RawResult> fine;
-  if (drive_ && !options_.coarse_drive_cells) {
-    const std::vector<double> preset_key = {static_cast<double>(options_.preset),
-                                            static_cast<double>(brush_options_.orientation),
-                                            base_.friction.mu_0,
-                                            base_.friction.mu_m,
-                                            base_.friction.q,
-                                            base_.wear.w3_kg_per_s_m2,
-                                            base_.wear.w4_kg_per_s_m2,
-                                            base_.footprint.b_m};
-    auto base_results = [&](const std::vector<DiagnosisRun>& cells,
-                            std::map<std::vector<double>, std::vector<RawResult>>* store) -> const std::vector<RawResult>& {
-      auto it = store->find(preset_key);
-      if (it == store->end()) {
-        std::vector<RawResult> r(cells.size());
-        const BrushWearModel model([&] {
-          TireParams b = base_;
-          b.wear.temperature_enabled = false;
-          return b;
-        }(), brush_options_);
-        for (std::size_t c = 0; c < cells.size(); ++c) r[c] = evaluateRun(model, cells[c], 0.0, 0.0);
-        it = store->emplace(preset_key, std::move(r)).first;
-      }
-      return it->second;
-    };
-    try {
-      fine = base_results(drive_->fine, &drive_->fine_base);
-      if (!at_base) {
-        const std::vector<RawResult>& coarse_base = base_results(coarse, &drive_->coarse_base);
-        for (std::size_t c = 0; c < fine.size(); ++c) {
-          const int m = drive_->coarse_of_fine[c];
-          const RawResult& now = raw[n + m];
-          const RawResult& then = coarse_base[m];
-          fine[c].fy_n += now.fy_n - then.fy_n;
-          fine[c].wear_w3_kg_per_m = then.wear_w3_kg_per_m > 0.0
-                                         ? fine[c].wear_w3_kg_per_m * now.wear_w3_kg_per_m / then.wear_w3_kg_per_m
-                                         : now.wear_w3_kg_per_m;
-        }
-      }
-    } catch (const std::exception&) {
-      return false;
-    }
-  }
+  if (drive_ && !options_.coarse_drive_cells && !fineDriveResults(values, raw, &fine)) return false;
   const bool use_fine = !fine.empty();
-  const std::vector<DiagnosisRun>& cells = use_fine ? drive_->fine : coarse;
+  const std::vector<DiagnosisRun>& cells = use_fine ? drive_->fine : drive_ ? drive_->coarse : data_.runs;
   auto cell_result = [&](int c) -> const RawResult& { return use_fine ? fine[c] : raw[n + c]; };
-  // The w3 factor of Eq 25 (or the thermal_wear term) at a tread temperature.
-  auto thermal_w3 = [&](double temperature_c) {
-    if (has(Term::kThermalWear)) {
-      const double d = temperature_c - value(Term::kThermalWear, 0);
-      const double s = value(Term::kThermalWear, 1);
-      return std::exp(d * d / (2.0 * s * s));
-    }
-    return base_.wear.temperature_enabled ? base_.wear.temperatureFactor(temperature_c) : 1.0;
-  };
   out->side_force_n.resize(n);
   out->wear_kg_per_m.resize(n);
   for (int i = 0; i < n; ++i) {
     const DiagnosisRun& r = data_.runs[i];
     double fy = raw[i].fy_n;
-    double w3_factor = w3_scale;
-    if (has(Term::kSurfacePolishing))
-      w3_factor *= std::exp(-value(Term::kSurfacePolishing, 0) * r.cumulative_sliding_m / 1000.0);
+    const double w3_factor = w3Factor(values, r);
     double wear = 0.0;
     if (r.isDrive()) {
       double fy_sum = 0.0, wear_sum = 0.0;
       for (const DriveCells::Share& s : use_fine ? drive_->fine_shares[i] : drive_->coarse_shares[i]) {
         const RawResult& c = cell_result(s.cell);
         fy_sum += c.fy_n * s.time_s;
-        wear_sum += (w3_factor * thermal_w3(cells[s.cell].tread_temperature_c) * c.wear_w3_kg_per_m +
+        wear_sum += (w3_factor * thermalW3(values, cells[s.cell].tread_temperature_c) * c.wear_w3_kg_per_m +
                      c.wear_w4_kg_per_m) *
                     s.distance_m;
       }
       fy = fy_sum / r.drive_time_s;
       wear = wear_sum / r.drive_distance_m;
     } else {
-      wear = w3_factor * thermal_w3(r.tread_temperature_c) * raw[i].wear_w3_kg_per_m + raw[i].wear_w4_kg_per_m;
+      wear = w3_factor * thermalW3(values, r.tread_temperature_c) * raw[i].wear_w3_kg_per_m + raw[i].wear_w4_kg_per_m;
     }
-    if (has(Term::kSensorGain)) fy *= value(Term::kSensorGain, 0);
-    if (has(Term::kSensorOffset)) fy += value(Term::kSensorOffset, 0);
+    if (has(Term::kSensorGain)) fy *= values[parameterOffset(Term::kSensorGain)];
+    if (has(Term::kSensorOffset)) fy += values[parameterOffset(Term::kSensorOffset)];
     for (const auto& [offset, evaluator] : user_terms_) evaluator->apply(i, &values[offset], &fy, &wear);
     out->side_force_n[i] = fy;
     out->wear_kg_per_m[i] = wear;
     if (!std::isfinite(out->side_force_n[i]) || !std::isfinite(out->wear_kg_per_m[i])) return false;
   }
   return true;
+}
+
+std::atomic<long>& cellsEvaluated() {
+  static std::atomic<long> count{0};
+  return count;
 }
 
 }  // namespace diagnosis

@@ -131,6 +131,12 @@ nlohmann::json numericsJson(const DiagnosisResult& r) {
                       {"noncentrality", c.noncentrality},
                       {"limit", c.limit},
                       {"passed", c.passed},
+                      {"drive_cells", c.cells},
+                      {"cells_compared", c.cells_compared},
+                      {"sampled", c.sampled},
+                      {"confidence", c.confidence},
+                      {"noncentrality_interval", {c.noncentrality_low, c.noncentrality_high}},
+                      {"seconds", c.seconds},
                       {"outputs", outputs}});
   }
   return {{"preset", presetName(r.preset)},
@@ -211,6 +217,11 @@ nlohmann::json diagnosisDocument(const DiagnosisResult& r, const DiagnosisData& 
   j["candidates"] = cands;
   j["noise_models"] = noiseModelsJson(r);
   j["numerics"] = numericsJson(r);
+  nlohmann::json timings = nlohmann::json::array();
+  for (const StepTiming& t : r.timings)
+    timings.push_back({{"step", t.step}, {"preset", presetName(t.preset)}, {"seconds", t.seconds},
+                       {"cells_evaluated", t.cells_evaluated}});
+  j["timings"] = {{"total_seconds", r.seconds}, {"steps", timings}};
   j["noise_left"] = {{"side_force_n", num(r.side_force_noise_n)}, {"wear_rsd", num(r.wear_noise_rsd)}};
   if (!r.detection_limits.empty()) {
     nlohmann::json limits = nlohmann::json::object();
@@ -396,7 +407,12 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
         << "); side force " << g(c.outputs[0].rms_in_noise, 3) << " noise std RMS (" << pct(c.outputs[0].rms_relative)
         << " RMS, largest " << pct(c.outputs[0].max_relative) << "), wear " << g(c.outputs[1].rms_in_noise, 3)
         << " noise std RMS (" << pct(c.outputs[1].rms_relative) << " RMS, largest " << pct(c.outputs[1].max_relative)
-        << ")\n";
+        << ")"
+        << (c.sampled ? "; estimated from " + std::to_string(c.cells_compared) + " of " + std::to_string(c.cells) +
+                            " drive cells, lambda in " + g(c.noncentrality_low, 3) + "-" + g(c.noncentrality_high, 3) +
+                            " at " + g(100.0 * c.confidence, 3) + "% confidence"
+                      : std::string())
+        << " (" << g(c.seconds, 3) << " s)\n";
   for (int o = 0; o < kNumOutputs; ++o) {
     const NoiseSelection& s = r.noise[o];
     const NoiseModel& w = r.weights[o];
@@ -407,6 +423,13 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
   }
   m << "\nSpread of repeats " << pct(r.pure_error[0]) << " / " << pct(r.pure_error[1])
     << " (side force / wear, relative). With few runs the F test and AICc are indicative only.\n";
+  if (!r.timings.empty()) {
+    m << "\n## Time per step\n\n| step | preset | wall time [s] | brush evaluations |\n|---|---|---|---|\n";
+    for (const StepTiming& t : r.timings)
+      m << "| " << t.step << " | " << presetName(t.preset) << " | " << g(t.seconds, 3) << " | " << t.cells_evaluated
+        << " |\n";
+    m << "| **total** | | **" << g(r.seconds, 3) << "** | |\n";
+  }
   return m.str();
 }
 

@@ -46,6 +46,7 @@
 /// nine means) they are indicative only, which the report says.
 
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <string>
@@ -62,11 +63,31 @@
 namespace tread_wear {
 namespace diagnosis {
 
+/// Where a running diagnosis is (DiagnosisOptions::progress), called on the diagnosing thread.
+struct DiagnosisProgress {
+  std::string step;            ///< e.g. "base fit", "numerics check", "selection step 1"
+  Preset preset = Preset::kFast;  ///< the preset being diagnosed at
+  long cells_evaluated = 0;    ///< brush evaluations of runs and drive cells since the diagnosis started
+  int terms_tried = 0;         ///< in the current selection step
+  int terms_in_step = 0;       ///< terms the current selection step fits (0 outside the selection)
+  double elapsed_s = 0.0;      ///< since the diagnosis started [s]
+  double step_left_s = -1.0;   ///< estimated time left in the current selection step [s]; < 0 when unknown
+};
+
+/// Wall time of one step of a diagnosis (DiagnosisResult::timings).
+struct StepTiming {
+  std::string step;            ///< "base fit", "numerics check at 'none'", "selection step 1", ...
+  Preset preset = Preset::kFast;  ///< the preset it ran at
+  double seconds = 0.0;        ///< wall time [s]
+  long cells_evaluated = 0;    ///< brush evaluations in it
+};
+
 struct DiagnosisOptions {
   ExtendedModelOptions model;      ///< preset (the first one tried with auto_preset) and base orientation
   bool auto_preset = true;         ///< escalate while the numerics check fails (step 0); false: keep model.preset
   Preset max_auto_preset = Preset::kFine;  ///< finest preset auto_preset may choose, >= model.preset
   double numerics_limit = 1.0;     ///< largest lambda_num of the solver error (numerics_check.h), > 0
+  NumericsSampling numerics_sampling;  ///< drives: the check on a sample of the cells (numerics_check.h)
   /// Noise model kind of each output (side force, wear); unset = selected by AICc (step 1)
   std::optional<NoiseKind> noise_kind[kNumOutputs];
   double alpha_locate = 0.01;      ///< family-wise error rate of the locating tests (Holm) (0, 1)
@@ -84,6 +105,8 @@ struct DiagnosisOptions {
   double detection_power = 0.8;
   /// Fit empirical terms (empirical.h) when the verdict is "unexplained"
   bool empirical = true;
+  /// Called at each step and after each term fitted (progress on stderr in tread_wear_diagnose); empty = none
+  std::function<void(const DiagnosisProgress&)> progress;
 
   DiagnosisOptions();
   bool validate(std::string* error) const;
@@ -166,6 +189,8 @@ struct DiagnosisResult {
   double detection_power = 0.0;                   ///< power of the detection limits [-]
   std::vector<DetectionLimit> detection_limits;   ///< step 6; empty when not computed
   std::vector<std::string> log;                   ///< the selection steps in words
+  std::vector<StepTiming> timings;                ///< every step, in order, over all presets tried
+  double seconds = 0.0;                           ///< wall time of the whole diagnosis [s]
 };
 
 /// The detectability settings (detectability.h) that match a diagnosis's: its selection level, AICc drop, candidates,

@@ -41,6 +41,7 @@
 /// Limits: steady state per run or per drive point; a steady run's temperature is its recorded mean tread
 /// temperature.
 
+#include <atomic>
 #include <map>
 #include <memory>
 #include <string>
@@ -136,6 +137,15 @@ struct ExtendedModelOptions {
   /// Drive segments on the coarse cells only (the solver-error check: the difference of two presets varies
   /// little across a coarse cell); otherwise fine cells with the coarse correction (see the file comment).
   bool coarse_drive_cells = false;
+  /// Threads evaluating the brush model's cells and runs (parallel_for.h); the results do not depend on it, >= 1
+  int jobs = 1;
+};
+
+/// A coarse drive cell's part of one drive segment's predictions (ExtendedModel::coarseCellContributions).
+struct CellContribution {
+  int run;               ///< index of the segment in the data
+  double side_force_n;   ///< its share of the segment's time-weighted Fy (times a sensor gain) [N]
+  double wear_kg_per_m;  ///< its share of the segment's distance-weighted W_r [kg/m]
 };
 
 /// The base model plus a set of terms, with parameters laid out as [w3_scale, mu_scale, term parameters...].
@@ -156,6 +166,16 @@ class ExtendedModel {
   int parameterOffset(Term term) const;
   /// Predicts all runs. Returns false when the brush model cannot be evaluated at these values.
   bool predict(const std::vector<double>& values, Prediction* out) const;
+  /// With coarse_drive_cells: evaluates the brush model at `values` at the listed coarse cells only (uncached; the
+  /// solver-error check's sample, numerics_check.h) and gives each cell's contributions to the segments that
+  /// share it. A drive segment's coarse prediction (predict) is the sum of its cells' contributions, plus a sensor
+  /// offset and user terms, which act per segment; the difference of two presets' contributions is therefore the
+  /// cell's part of the segments' solver error. Returns false when the model cannot be evaluated there.
+  /// @throw std::logic_error without coarse_drive_cells.
+  bool coarseCellContributions(const std::vector<double>& values, const std::vector<int>& cells,
+                               std::vector<std::vector<CellContribution>>* out) const;
+  /// The coarse drive cells shared by all segments (0 without drive segments).
+  std::size_t coarseDriveCells() const;
   /// Operating points the brush model is evaluated at per new set of brush-relevant parameter values: the distinct
   /// steady conditions plus the coarse cells of all drive segments together (drive cells, below).
   std::size_t evaluationPoints() const;
@@ -174,6 +194,27 @@ class ExtendedModel {
   };
 
  private:
+  /// The brush-relevant parameters of a parameter vector: they decide whether a prediction re-simulates.
+  struct BrushSetting {
+    double mu_scale, k_t, compliance, q, load_std_scale;
+  };
+  BrushSetting brushSetting(const std::vector<double>& values) const;
+  /// Brush results at `setting` for each non-null point, on options_.jobs threads; false outside the terms'
+  /// validity. @throw what the brush model throws.
+  bool evaluatePoints(const BrushSetting& setting, const std::vector<const DiagnosisRun*>& points,
+                      std::vector<RawResult>* raw) const;
+  /// The w3 factor of a segment or run (w3_scale, surface_polishing) and the thermal factor at a temperature.
+  double w3Factor(const std::vector<double>& values, const DiagnosisRun& run) const;
+  double thermalW3(const std::vector<double>& values, double temperature_c) const;
+  /// The brush results of the steady runs (0..n-1) and the coarse drive cells (n..) at `values`, from the cache
+  /// or evaluated; null when the model cannot be evaluated there.
+  const std::vector<RawResult>* rawResults(const std::vector<double>& values) const;
+  /// The fine drive cells at `values`: at the base parameters, carried by the coarse cells' change in `raw`.
+  bool fineDriveResults(const std::vector<double>& values, const std::vector<RawResult>& raw,
+                        std::vector<RawResult>* fine) const;
+  /// What the cached results of the drive cells depend on besides the brush parameters: the preset, the
+  /// orientation and the tire file's friction and wear levels.
+  std::vector<double> presetKey() const;
   bool has(Term t) const { return parameterOffset(t) >= 0; }
   RawResult evaluateRun(const BrushWearModel& model, const DiagnosisRun& run, double compliance,
                         double load_std_scale) const;
@@ -195,6 +236,9 @@ class ExtendedModel {
   /// columns cost no brush solve).
   mutable std::map<std::vector<double>, std::vector<RawResult>> cache_;
 };
+
+/// Brush evaluations of runs and cells by every ExtendedModel of the process so far (progress reports).
+std::atomic<long>& cellsEvaluated();
 
 }  // namespace diagnosis
 }  // namespace tread_wear
