@@ -55,11 +55,12 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
                    const std::string& default_plot_script, std::ostream& out, std::ostream& err) {
   CommandLine a;
   std::string parse_error;
-  const bool parsed = a.parse(argc, argv,
-               {"params", "runs", "bag", "report", "orientation", "preset", "candidates", "max-terms",
-                "alpha-locate", "alpha-select", "detection-power", "seed", "plot-script", "force-noise-model",
-                "wear-noise-model", "mechanisms", "input-timeout-s", "update-rate-hz", "jobs"},
-               {"no-plots", "quiet"}, &parse_error);
+  const bool parsed =
+      a.parse(argc, argv,
+              {"params", "runs", "bag", "report", "orientation", "preset", "candidates", "max-terms", "alpha-locate",
+               "alpha-select", "detection-power", "seed", "plot-script", "force-noise-model", "wear-noise-model",
+               "mechanisms", "input-timeout-s", "update-rate-hz", "jobs"},
+              {"no-plots", "quiet"}, &parse_error);
   auto usage = [&](const std::string& msg) { return usageError(err, "tread_wear_diagnose", msg, kDiagnoseUsage); };
   if (a.help()) {
     out << kDiagnoseUsage;
@@ -109,16 +110,16 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
     const std::string source = a.has("runs") ? a.get("runs") : a.get("bag");
     const auto read_start = std::chrono::steady_clock::now();
     RunTable table = a.has("runs") ? readRunTable(source) : bag_reader(source, params, replay);
-    const double read_seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - read_start).count();
-    if (!a.has("quiet")) err << "tread_wear_diagnose: read " << table.runs.size() << " runs in " << read_seconds << " s\n";
+    const double read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - read_start).count();
+    if (!a.has("quiet"))
+      err << "tread_wear_diagnose: read " << table.runs.size() << " runs in " << read_seconds << " s\n";
     const std::vector<std::string> warnings = screenSideForceSigns(params, opt.model.orientation, &table);
     for (const std::string& w : warnings) err << "tread_wear_diagnose: warning: " << w << "\n";
     DiagnosisData data = buildDiagnosisData(table);
     data.warnings = warnings;
     DiagnosisResult result = diagnose(params, data, opt);
-    result.timings.insert(result.timings.begin(), {a.has("bag") ? "reading the bag" : "reading the run table",
-                                                   result.preset, read_seconds, 0});
+    result.timings.insert(result.timings.begin(),
+                          {a.has("bag") ? "reading the bag" : "reading the run table", result.preset, read_seconds, 0});
     result.seconds += read_seconds;
     err << "tread_wear_diagnose: " << result.numerics_decision << "\n";
     if (!result.numerics_warning.empty()) err << "tread_wear_diagnose: warning: " << result.numerics_warning << "\n";
@@ -172,8 +173,8 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
       for (const DetectionLimit& l : result.detection_limits) {
         if (std::isnan(l.below) && std::isnan(l.above)) continue;
         char line[200];
-        std::snprintf(line, sizeof(line), "would have found (power %g): %s %s", result.detection_power,
-                      l.term.c_str(), l.parameter.c_str());
+        std::snprintf(line, sizeof(line), "would have found (power %g): %s %s", result.detection_power, l.term.c_str(),
+                      l.parameter.c_str());
         out << line;
         if (std::isfinite(l.below)) {
           std::snprintf(line, sizeof(line), " <= %.3g", l.below);

@@ -541,9 +541,7 @@ class StepClock {
   double elapsed() const { return seconds(start_); }
 
  private:
-  static double seconds(Clock::time_point since) {
-    return std::chrono::duration<double>(Clock::now() - since).count();
-  }
+  static double seconds(Clock::time_point since) { return std::chrono::duration<double>(Clock::now() - since).count(); }
   void report(double step_left_s) const {
     if (!options_.progress) return;
     DiagnosisProgress p;
@@ -615,8 +613,8 @@ FittedModel forwardSelection(Fitter& fitter, const std::vector<Term>& applicable
     }
     std::ostringstream line;
     line << "step " << step + 1 << " from '" << current.label << "': " << fits.size() << " terms tried, "
-         << eligible.size() << " eligible (F test p < " << format(threshold, 3) << ", AICc drop >= "
-         << options.min_aicc_drop << ")";
+         << eligible.size() << " eligible (F test p < " << format(threshold, 3)
+         << ", AICc drop >= " << options.min_aicc_drop << ")";
     const bool better = best >= 0 && fits[best].cv_score < current.cv_score;
     bool accept = better;
     if (best >= 0)
@@ -633,9 +631,12 @@ FittedModel forwardSelection(Fitter& fitter, const std::vector<Term>& applicable
       line << ", held-out improvement over runs p = " << format(fits[best].p_held_out, 3) << " (Wilcoxon, < "
            << options.alpha_select << (accept ? ")" : " needed)");
     }
-    if (best < 0) line << ": stop";
-    else if (!better) line << ", not better out of sample: stop";
-    else line << (accept ? ", accepted" : ": stop");
+    if (best < 0)
+      line << ": stop";
+    else if (!better)
+      line << ", not better out of sample: stop";
+    else
+      line << (accept ? ", accepted" : ": stop");
     result.log.push_back(line.str());
     if (accept)
       for (int i : eligible) {
@@ -709,8 +710,10 @@ DiagnosisResult diagnoseAtPreset(const TireParams& base, const DiagnosisData& da
   std::vector<Term> applicable;
   for (Term t : pool) {
     std::string why;
-    if (termApplicable(t, data, &why)) applicable.push_back(t);
-    else result.skipped_terms.push_back(termInfo(t).name + ": " + why);
+    if (termApplicable(t, data, &why))
+      applicable.push_back(t);
+    else
+      result.skipped_terms.push_back(termInfo(t).name + ": " + why);
   }
   for (Term t : applicable)  // a user term must leave the model as it is at its no-effect values
     if (termInfo(t).user) checkNoEffect(termInfo(t), data, result.base.prediction);

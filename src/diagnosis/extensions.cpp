@@ -30,42 +30,76 @@ constexpr int kComplianceIterations = 12;
 
 std::vector<TermInfo> makeLibrary() {
   std::vector<TermInfo> lib;
-  lib.push_back({Term::kThermalWear, "thermal_wear",
-                 "abrasion resistance depends on the tread temperature: w3 -> w3 exp((T - T0)^2 / (2 sigma_T^2)) "
-                 "(Eq 25)",
-                 true, {false, true},
-                 {{"t0_c", 40.0, -50.0, 200.0, false, kNaN, "degC"},
-                  {"sigma_t_c", 30.0, 2.0, 1000.0, true, kNaN, "degC"}},
-                 1});
-  lib.push_back({Term::kThermalFriction, "thermal_friction",
-                 "rubber friction falls as the tread warms: mu_0, mu_m -> (1 - k_T (T - 23 degC)) mu_0, mu_m", true,
-                 {true, true}, {{"k_t_per_k", 0.0, -0.015, 0.015, false, 0.0, "1/K"}}, 0});
-  lib.push_back({Term::kSurfacePolishing, "surface_polishing",
+  lib.push_back(
+      {Term::kThermalWear,
+       "thermal_wear",
+       "abrasion resistance depends on the tread temperature: w3 -> w3 exp((T - T0)^2 / (2 sigma_T^2)) "
+       "(Eq 25)",
+       true,
+       {false, true},
+       {{"t0_c", 40.0, -50.0, 200.0, false, kNaN, "degC"}, {"sigma_t_c", 30.0, 2.0, 1000.0, true, kNaN, "degC"}},
+       1});
+  lib.push_back({Term::kThermalFriction,
+                 "thermal_friction",
+                 "rubber friction falls as the tread warms: mu_0, mu_m -> (1 - k_T (T - 23 degC)) mu_0, mu_m",
+                 true,
+                 {true, true},
+                 {{"k_t_per_k", 0.0, -0.015, 0.015, false, 0.0, "1/K"}},
+                 0});
+  lib.push_back({Term::kSurfacePolishing,
+                 "surface_polishing",
                  "the track gets polished: abrasiveness decays as exp(-r_p L) with the sliding distance L on the "
                  "current surface, reset when the surface is renewed (each cycle)",
-                 true, {false, true}, {{"polishing_rate_per_km", 0.2, 0.0, 10.0, false, 0.0, "1/km"}}, 0});
-  lib.push_back({Term::kLateralCompliance, "lateral_compliance",
+                 true,
+                 {false, true},
+                 {{"polishing_rate_per_km", 0.2, 0.0, 10.0, false, 0.0, "1/km"}},
+                 0});
+  lib.push_back({Term::kLateralCompliance,
+                 "lateral_compliance",
                  "the wheel or carcass bends under the side force, lowering the effective slip angle: "
                  "|alpha_eff| = |alpha| - c_lat |Fy|",
-                 true, {true, true}, {{"compliance_rad_per_n", 1e-4, 0.0, 3e-3, false, 0.0, "rad/N"}}, 0});
-  lib.push_back({Term::kPressureFriction, "pressure_friction",
+                 true,
+                 {true, true},
+                 {{"compliance_rad_per_n", 1e-4, 0.0, 3e-3, false, 0.0, "rad/N"}},
+                 0});
+  lib.push_back({Term::kPressureFriction,
+                 "pressure_friction",
                  "friction falls with contact pressure more (or less) than the file says: the sat(p) exponent q "
                  "of Eq 11 is free",
-                 true, {true, true}, {{"q", 0.14, 0.0, 1.0, false, 0.14, "-"}}, 0});
-  lib.push_back({Term::kLoadFluctuation, "load_fluctuation",
+                 true,
+                 {true, true},
+                 {{"q", 0.14, 0.0, 1.0, false, 0.14, "-"}},
+                 0});
+  lib.push_back({Term::kLoadFluctuation,
+                 "load_fluctuation",
                  "the vertical load fluctuates during a run: forces and wear are the Eq 23 average over "
                  "N(Fz, (s_load load_std)^2) instead of the value at the mean load",
-                 true, {true, true}, {{"load_std_scale", 1.0, 0.0, 6.0, false, 0.0, "-"}}, 0});
-  lib.push_back({Term::kTurnSlipOrientation, "turn_slip_orientation",
+                 true,
+                 {true, true},
+                 {{"load_std_scale", 1.0, 0.0, 6.0, false, 0.0, "-"}},
+                 0});
+  lib.push_back({Term::kTurnSlipOrientation,
+                 "turn_slip_orientation",
                  "the slip angle is oriented the other way against the track curve (turn slip adds to sideslip "
                  "instead of opposing it)",
-                 true, {true, true}, {}, -1});
-  lib.push_back({Term::kSensorGain, "sensor_gain",
+                 true,
+                 {true, true},
+                 {},
+                 -1});
+  lib.push_back({Term::kSensorGain,
+                 "sensor_gain",
                  "not physics: the side-force transducer reads g times the true force (calibration gain error)",
-                 false, {true, false}, {{"side_force_gain", 1.0, 0.5, 1.5, false, 1.0, "-"}}, 0});
-  lib.push_back({Term::kSensorOffset, "sensor_offset",
+                 false,
+                 {true, false},
+                 {{"side_force_gain", 1.0, 0.5, 1.5, false, 1.0, "-"}},
+                 0});
+  lib.push_back({Term::kSensorOffset,
+                 "sensor_offset",
                  "not physics: the side-force transducer reads the true force plus a constant zero offset o [N]",
-                 false, {true, false}, {{"side_force_offset_n", 0.0, -30.0, 30.0, false, 0.0, "N"}}, 0});
+                 false,
+                 {true, false},
+                 {{"side_force_offset_n", 0.0, -30.0, 30.0, false, 0.0, "N"}},
+                 0});
   return lib;
 }
 
@@ -182,6 +216,9 @@ struct DriveCells {
   /// Brush results of the steady runs and the coarse cells per (preset key, brush parameters), shared by every
   /// model of the data (ExtendedModel::rawResults); guarded with the stores above by raw_cache_lock.
   std::map<std::vector<double>, std::vector<ExtendedModel::RawResult>> raw_cache;
+  /// The coarse cells at the mu_scale nodes (ExtendedModelOptions::interpolate_mu_scale), kept for the whole
+  /// diagnosis (a few dozen nodes at most).
+  std::map<std::vector<double>, std::vector<ExtendedModel::RawResult>> node_cache;
   std::mutex raw_cache_lock;
 };
 
@@ -231,8 +268,9 @@ std::shared_ptr<DriveCells> buildDriveCells(const DiagnosisData& data) {
 
 /// Steady runs with this key share one brush evaluation (repeats of a condition).
 std::array<double, 6> steadyKey(const DiagnosisRun& r) {
-  return {r.op.speed_mps, r.op.slip_angle_rad, r.op.slip_ratio, r.op.path_curvature_per_m, r.op.load_n,
-          std::isfinite(r.load_std_n) ? r.load_std_n : 0.0};
+  return {r.op.speed_mps,  r.op.slip_angle_rad,
+          r.op.slip_ratio, r.op.path_curvature_per_m,
+          r.op.load_n,     std::isfinite(r.load_std_n) ? r.load_std_n : 0.0};
 }
 
 }  // namespace
@@ -253,15 +291,17 @@ ExtendedModel::ExtendedModel(const TireParams& base, const ExtendedModelOptions&
   }
   TurnSlipOrientation orientation = options_.orientation;
   if (has(Term::kTurnSlipOrientation))
-    orientation = orientation == TurnSlipOrientation::kLiteral ? TurnSlipOrientation::kFlipped
-                                                               : TurnSlipOrientation::kLiteral;
+    orientation =
+        orientation == TurnSlipOrientation::kLiteral ? TurnSlipOrientation::kFlipped : TurnSlipOrientation::kLiteral;
   brush_options_ = presetOptions(options_.preset, orientation);
 
   std::set<std::array<double, 6>> steady;
   bool any_drive = false;
   for (const DiagnosisRun& r : data_.runs) {
-    if (r.isDrive()) any_drive = true;
-    else steady.insert(steadyKey(r));
+    if (r.isDrive())
+      any_drive = true;
+    else
+      steady.insert(steadyKey(r));
   }
   distinct_steady_ = steady.size();
   if (any_drive) {
@@ -272,9 +312,7 @@ ExtendedModel::ExtendedModel(const TireParams& base, const ExtendedModelOptions&
 
 std::size_t ExtendedModel::fineDriveCells() const { return drive_ ? drive_->fine.size() : 0; }
 
-std::size_t ExtendedModel::evaluationPoints() const {
-  return distinct_steady_ + (drive_ ? drive_->coarse.size() : 0);
-}
+std::size_t ExtendedModel::evaluationPoints() const { return distinct_steady_ + (drive_ ? drive_->coarse.size() : 0); }
 
 int ExtendedModel::parameterOffset(Term term) const { return offsets_[static_cast<int>(term)]; }
 
@@ -368,8 +406,7 @@ ExtendedModel::RawResult ExtendedModel::evaluateRun(const BrushWearModel& model,
   const double spread = std::min(std::sqrt(3.0) * sd, 0.9 * run.op.load_n);
   const RawResult lo = at(run.op.load_n - spread), mid = at(run.op.load_n), hi = at(run.op.load_n + spread);
   auto avg = [](double l, double m, double h) { return (l + h) / 6.0 + 2.0 * m / 3.0; };
-  return RawResult{avg(lo.fy_n, mid.fy_n, hi.fy_n),
-                   avg(lo.wear_w3_kg_per_m, mid.wear_w3_kg_per_m, hi.wear_w3_kg_per_m),
+  return RawResult{avg(lo.fy_n, mid.fy_n, hi.fy_n), avg(lo.wear_w3_kg_per_m, mid.wear_w3_kg_per_m, hi.wear_w3_kg_per_m),
                    avg(lo.wear_w4_kg_per_m, mid.wear_w4_kg_per_m, hi.wear_w4_kg_per_m)};
 }
 
@@ -410,8 +447,8 @@ bool ExtendedModel::evaluatePoints(const BrushSetting& s, const std::vector<cons
       model_of[j] = it->second.get();
     }
   } else {
-    const BrushWearModel* shared = models.emplace(0, std::make_unique<BrushWearModel>(p, brush_options_))
-                                       .first->second.get();
+    const BrushWearModel* shared =
+        models.emplace(0, std::make_unique<BrushWearModel>(p, brush_options_)).first->second.get();
     for (std::size_t j = 0; j < points.size(); ++j)
       if (points[j] != nullptr) model_of[j] = shared;
   }
@@ -502,13 +539,16 @@ const std::vector<ExtendedModel::RawResult>* ExtendedModel::rawResults(const std
   }
   auto found = cache.find(key);
   if (found != cache.end()) return &found->second;
-  const int n = static_cast<int>(data_.runs.size());
-  const std::vector<DiagnosisRun> no_cells;
-  const std::vector<DiagnosisRun>& coarse = drive_ ? drive_->coarse : no_cells;
-  std::vector<const DiagnosisRun*> points(n + coarse.size(), nullptr);
-  for (int i = 0; i < n; ++i)
-    if (!data_.runs[i].isDrive()) points[i] = &data_.runs[i];
-  for (std::size_t c = 0; c < coarse.size(); ++c) points[n + c] = &coarse[c];
+  if (interpolates(s)) {
+    lock = std::unique_lock<std::mutex>();  // the nodes take the lock themselves
+    bool ok = true;
+    std::vector<RawResult> raw = interpolatedResults(s, &ok);
+    if (!ok) return nullptr;
+    lock = std::unique_lock<std::mutex>(drive_->raw_cache_lock);
+    if (cache.size() >= kCacheEntries) cache.clear();
+    return &cache.emplace(key, std::move(raw)).first->second;
+  }
+  const std::vector<const DiagnosisRun*> points = brushPoints(true, true);
   std::vector<RawResult> raw(points.size());
   try {
     if (!evaluatePoints(s, points, &raw)) return nullptr;
@@ -520,8 +560,79 @@ const std::vector<ExtendedModel::RawResult>* ExtendedModel::rawResults(const std
   return &cache.emplace(key, std::move(raw)).first->second;
 }
 
+std::vector<const DiagnosisRun*> ExtendedModel::brushPoints(bool steady, bool coarse) const {
+  const std::size_t n = data_.runs.size(), n_coarse = drive_ ? drive_->coarse.size() : 0;
+  std::vector<const DiagnosisRun*> points(n + n_coarse, nullptr);
+  for (std::size_t i = 0; steady && i < n; ++i)
+    if (!data_.runs[i].isDrive()) points[i] = &data_.runs[i];
+  for (std::size_t c = 0; coarse && c < n_coarse; ++c) points[n + c] = &drive_->coarse[c];
+  return points;
+}
+
+bool ExtendedModel::interpolates(const BrushSetting& s) const {
+  return drive_ && options_.interpolate_mu_scale && s.k_t == 0.0 && s.compliance == 0.0 && s.q == base_.friction.q &&
+         s.load_std_scale == 0.0;
+}
+
+std::vector<ExtendedModel::RawResult> ExtendedModel::interpolatedResults(const BrushSetting& s, bool* ok) const {
+  const std::size_t n = data_.runs.size();
+  std::vector<RawResult> raw(brushPoints(true, true).size());
+  *ok = true;
+  try {
+    const std::vector<const DiagnosisRun*> steady = brushPoints(true, false);
+    if (!evaluatePoints(s, steady, &raw)) *ok = false;
+  } catch (const std::exception&) {
+    *ok = false;
+  }
+  if (!*ok) return raw;
+  // Catmull-Rom between the nodes j and j + 1 around x = ln(mu_scale) / spacing, with the nodes j - 1 and j + 2
+  // for the slopes (C1 in mu_scale, exact at the nodes: mu_scale 1 is node 0).
+  const double x = std::log(s.mu_scale) / kMuScaleNodeSpacing;
+  const double j = std::floor(x), t = x - j;
+  const double weight[4] = {0.5 * (-t * t * t + 2 * t * t - t), 0.5 * (3 * t * t * t - 5 * t * t + 2),
+                            0.5 * (-3 * t * t * t + 4 * t * t + t), 0.5 * (t * t * t - t * t)};
+  for (int k = 0; k < 4; ++k) {
+    if (weight[k] == 0.0) continue;
+    BrushSetting node = s;
+    node.mu_scale = std::exp((j - 1 + k) * kMuScaleNodeSpacing);
+    const std::vector<RawResult>* at_node = nodeResults(node);
+    if (at_node == nullptr) {
+      *ok = false;
+      return raw;
+    }
+    for (std::size_t c = n; c < raw.size(); ++c) {
+      raw[c].fy_n += weight[k] * (*at_node)[c].fy_n;
+      raw[c].wear_w3_kg_per_m += weight[k] * (*at_node)[c].wear_w3_kg_per_m;
+      raw[c].wear_w4_kg_per_m += weight[k] * (*at_node)[c].wear_w4_kg_per_m;
+    }
+  }
+  return raw;
+}
+
+const std::vector<ExtendedModel::RawResult>* ExtendedModel::nodeResults(const BrushSetting& node) const {
+  std::vector<double> key = presetKey();
+  key.push_back(-1.0);  // a node: the coarse cells only, evaluated as they are
+  key.insert(key.end(), {node.mu_scale, node.k_t, node.compliance, node.q, node.load_std_scale});
+  {
+    std::lock_guard<std::mutex> lock(drive_->raw_cache_lock);
+    const auto found = drive_->node_cache.find(key);
+    if (found != drive_->node_cache.end()) return &found->second;
+  }
+  const std::vector<const DiagnosisRun*> points = brushPoints(false, true);
+  std::vector<RawResult> raw(points.size());
+  try {
+    if (!evaluatePoints(node, points, &raw)) return nullptr;
+  } catch (const std::exception&) {
+    return nullptr;
+  }
+  brush_evaluations_ += static_cast<long>(drive_->coarse.size());
+  std::lock_guard<std::mutex> lock(drive_->raw_cache_lock);
+  return &drive_->node_cache.emplace(key, std::move(raw)).first->second;
+}
+
 std::vector<double> ExtendedModel::presetKey() const {
   return {static_cast<double>(options_.preset),
+          options_.interpolate_mu_scale ? 1.0 : 0.0,
           static_cast<double>(brush_options_.orientation),
           base_.friction.mu_0,
           base_.friction.mu_m,
@@ -535,8 +646,9 @@ bool ExtendedModel::fineDriveResults(const std::vector<double>& values, const st
                                      std::vector<RawResult>* fine) const {
   const int n = static_cast<int>(data_.runs.size());
   const std::vector<double> preset_key = presetKey();
-  auto base_results = [&](const std::vector<DiagnosisRun>& cells,
-                          std::map<std::vector<double>, std::vector<RawResult>>* store) -> const std::vector<RawResult>& {
+  auto base_results =
+      [&](const std::vector<DiagnosisRun>& cells,
+          std::map<std::vector<double>, std::vector<RawResult>>* store) -> const std::vector<RawResult>& {
     std::lock_guard<std::mutex> lock(drive_->raw_cache_lock);
     auto it = store->find(preset_key);
     if (it == store->end()) {
@@ -562,9 +674,9 @@ bool ExtendedModel::fineDriveResults(const std::vector<double>& values, const st
       const RawResult& then = coarse_base[m];
       RawResult& f = (*fine)[c];
       f.fy_n += now.fy_n - then.fy_n;
-      f.wear_w3_kg_per_m =
-          then.wear_w3_kg_per_m > 0.0 ? f.wear_w3_kg_per_m * now.wear_w3_kg_per_m / then.wear_w3_kg_per_m
-                                      : now.wear_w3_kg_per_m;
+      f.wear_w3_kg_per_m = then.wear_w3_kg_per_m > 0.0
+                               ? f.wear_w3_kg_per_m * now.wear_w3_kg_per_m / then.wear_w3_kg_per_m
+                               : now.wear_w3_kg_per_m;
     }
   } catch (const std::exception&) {
     return false;

@@ -19,6 +19,9 @@ constexpr double kJacobianStep = 0.01;
 /// Monte Carlo draws of the quantile q (file comment of numerics_check.h): its relative error at the 95% quantile
 /// is about 2%, small against the factor 4 between two sample sizes.
 constexpr int kQuantileDraws = 4000;
+/// Share of the inclusion probabilities drawn uniformly over the cells (the rest in proportion to a cell's
+/// contribution to the weighted predictions).
+constexpr double kUniformShare = 0.1;
 /// Growth of the sample when its interval straddles the limit.
 constexpr double kSampleGrowth = 4.0;
 
@@ -168,13 +171,16 @@ Eigen::VectorXd sampledSolverError(const ExtendedModel& preset, const ExtendedMo
       }
   };
   std::vector<double> importance(all.size());
+  double total = 0.0;
   for (std::size_t k = 0; k < all.size(); ++k) {
     Eigen::VectorXd y = Eigen::VectorXd::Zero(m);
     weighted(at_preset[k], &y);
     importance[k] = y.cwiseAbs().sum();
+    total += importance[k];
   }
-  const int contributing =
-      static_cast<int>(std::count_if(importance.begin(), importance.end(), [](double x) { return x > 0.0; }));
+  // Defensive mixture: a cell that the preset predicts to wear nothing (a low slip below its grid's first
+  // sliding node) may wear at the finer preset, so every cell keeps a share of a uniform draw.
+  for (double& x : importance) x = (1.0 - kUniformShare) * x / total + kUniformShare / importance.size();
   std::mt19937_64 rng(sampling.seed);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   std::vector<double> u(all.size());
@@ -212,9 +218,9 @@ Eigen::VectorXd sampledSolverError(const ExtendedModel& preset, const ExtendedMo
     c->noncentrality = root * root;
     c->noncentrality_low = std::pow(std::max(0.0, root - q), 2);
     c->noncentrality_high = std::pow(root + q, 2);
-    // Exact once every cell that contributes at all is in with certainty (the others add nothing either way).
+    // Exact once every cell is in with certainty.
     const bool exact =
-        static_cast<int>(sample.size()) == contributing &&
+        static_cast<int>(sample.size()) == c->cells &&
         std::all_of(sample.begin(), sample.end(), [&](int k) { return pi[static_cast<std::size_t>(k)] >= 1.0; });
     c->sampled = !exact;
     c->confidence = exact ? 1.0 : sampling.confidence;
@@ -251,7 +257,8 @@ NumericsCheck checkNumerics(const TireParams& base, const DiagnosisData& data, c
   if (options.preset == Preset::kReference) return c;
   c.checked = true;
   ExtendedModelOptions preset_options = options;
-  preset_options.coarse_drive_cells = true;  // drive segments: the presets' difference on the coarse cells
+  preset_options.coarse_drive_cells = true;     // drive segments: the presets' difference on the coarse cells
+  preset_options.interpolate_mu_scale = false;  // both presets evaluated at the fit itself, cell by cell
   const ExtendedModel coarse(base, preset_options, terms, data);
   ExtendedModelOptions finer_options = preset_options;
   finer_options.preset = c.finer;

@@ -53,8 +53,8 @@ ConcealCase driveCase(const std::string& effect, double magnitude, double wear_n
 
 TEST(DriveNumerics, SampledCheckBracketsTheCheckOnEveryCell) {
   // The reference is the check's own definition, every coarse cell predicted at both presets. A wear noise of
-  // 0.5% puts fast's solver error (about 1-4% in W_r on drives) near the limit, where the interval matters. Ten
-  // sample seeds: the interval is a 95% one (triangle inequality, so conservative); allow one miss in ten.
+  // 0.5% makes fast's solver error (several % in W_r on these cells) fail the check, one of 5% pass it. Five
+  // sample seeds each: the interval is a 95% one (by the triangle inequality, conservative); allow one miss.
   const TireParams base = passengerTire();
   const DiagnosisData data = buildDiagnosisData(driveCase("none", 0.0, 0.0, 3).table);
   ExtendedModelOptions model;
@@ -71,7 +71,7 @@ TEST(DriveNumerics, SampledCheckBracketsTheCheckOnEveryCell) {
     ASSERT_GT(full.cells, 100);
     EXPECT_EQ(full.cells_compared, full.cells);
     int covered = 0, same_decision = 0;
-    for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+    for (std::uint64_t seed = 1; seed <= 5; ++seed) {
       NumericsSampling sample;
       sample.first_sample_cells = full.cells / 8;
       sample.seed = seed;
@@ -80,8 +80,8 @@ TEST(DriveNumerics, SampledCheckBracketsTheCheckOnEveryCell) {
       if (s.passed == full.passed) ++same_decision;
       EXPECT_LE(s.cells_compared, full.cells);
     }
-    EXPECT_GE(covered, 9) << "full lambda " << full.noncentrality;
-    EXPECT_EQ(same_decision, 10) << "full lambda " << full.noncentrality;
+    EXPECT_GE(covered, 4) << "full lambda " << full.noncentrality;
+    EXPECT_EQ(same_decision, 5) << "full lambda " << full.noncentrality;
   }
 }
 
@@ -98,7 +98,7 @@ TEST(DriveNumerics, SampleOfEveryCellIsTheFullCheck) {
   every.first_sample_cells = 0;
   const NumericsCheck full = checkNumerics(base, data, ExtendedModelOptions(), {}, values, noise, 1.0, every);
   NumericsSampling all;
-  all.first_sample_cells = full.cells - 1;  // sampling on; the next, fourfold, sample holds every cell
+  all.first_sample_cells = (full.cells + 3) / 4;  // sampling on; the next, fourfold, sample holds every cell
   all.confidence = 0.999999;
   // The limit at the full check's lambda: the first sample's interval straddles it, so the sample grows to all.
   const NumericsCheck s = checkNumerics(base, data, ExtendedModelOptions(), {}, values, noise, full.noncentrality, all);
@@ -109,17 +109,20 @@ TEST(DriveNumerics, SampleOfEveryCellIsTheFullCheck) {
 }
 
 TEST(DriveNumerics, JobsOneAndTwoGiveIdenticalResults) {
-  // A small drive case (thermal_wear at sigma_T = 20 degC, 2% noise) diagnosed at the default preset auto with
-  // one and with two threads, each on its own copy of the data (no cache shared between the two runs): every
-  // verdict, estimate, held-out error and solver-error figure must be the same bit for bit.
+  // A small drive case (thermal_wear at sigma_T = 20 degC, 2% noise) diagnosed with one and with two threads,
+  // each on its own copy of the data (no cache shared between the two runs): every verdict, estimate, held-out
+  // error and solver-error figure must be the same bit for bit. At `fast` given (its check is still run and
+  // reported; `auto` would escalate on these generated-at-fast recordings and triple the time).
   const TireParams base = passengerTire();
   const ConcealCase c = driveCase("thermal_wear", 20.0, 0.02, 5);
   DiagnosisResult results[2];
   for (int jobs = 1; jobs <= 2; ++jobs) {
     DiagnosisOptions opt;
     opt.model.jobs = jobs;
+    opt.auto_preset = false;
     opt.max_terms = 1;
-    opt.candidates = {Term::kThermalWear, Term::kPressureFriction};
+    opt.candidates = {Term::kThermalWear};           // the base fit's mu_scale re-simulates the cells on both threads
+    opt.numerics_sampling.first_sample_cells = 100;  // the sampled check too
     opt.permutations = 999;
     opt.detection_power = 0.0;
     results[jobs - 1] = diagnose(base, buildDiagnosisData(c.table), opt);

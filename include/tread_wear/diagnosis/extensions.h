@@ -28,9 +28,10 @@
 /// Drive segments (DiagnosisRun::isDrive) are predicted from their integrated operating points, binned into cells
 /// (point_cells.h) at two resolutions that all segments share: fine cells (the default PointCellParams, within
 /// 0.25% of the replay's wear per segment, docs/diagnosis.md) and coarse ones (4 times the load width, 5 times the
-/// slip widths, 15 times the speed width, 6 times the curvature width, 3 degC; about 8 times fewer cells). The fine cells are evaluated once per preset at the base brush parameters (mu_scale 1, no
-/// friction, compliance or spread term; cached with the data: DiagnosisData::drive_cells); a fit re-simulates only
-/// the coarse cells and carries the change to the fine cells it contains:
+/// slip widths, 15 times the speed width, 6 times the curvature width, 3 degC; about 8 times fewer cells). The fine
+/// cells are evaluated once per preset at the base brush parameters (mu_scale 1, no friction, compliance or spread
+/// term; cached with the data: DiagnosisData::drive_cells); a fit re-simulates only the coarse cells and carries the
+/// change to the fine cells it contains:
 ///   Fy = Fy_fine,base + (Fy_coarse - Fy_coarse,base),  W_r,w3 = W_r,w3,fine,base x W_r,w3,coarse / W_r,w3,coarse,base,
 /// W_r,w4 (load and speed only) from the fine cell. A change of the parameters moves W_r smoothly across a coarse
 /// cell, so the ratio carries it to second order where W_r itself (steep in slip) would not. A segment's W_r is
@@ -75,23 +76,23 @@ class MechanismEvaluator;
 struct DriveCells;
 
 struct TermParameterSpec {
-  std::string name;   ///< e.g. "compliance_rad_per_n"
-  double initial;     ///< start of a fit [unit]
+  std::string name;     ///< e.g. "compliance_rad_per_n"
+  double initial;       ///< start of a fit [unit]
   double lower, upper;  ///< bounds [unit]
-  bool log_scale;     ///< fit ln(value)
-  double neutral;     ///< value at which the term has no effect [unit]; NaN when there is none (sigma_T -> inf)
-  std::string unit;   ///< e.g. "rad/N", "-" for a dimensionless one
+  bool log_scale;       ///< fit ln(value)
+  double neutral;       ///< value at which the term has no effect [unit]; NaN when there is none (sigma_T -> inf)
+  std::string unit;     ///< e.g. "rad/N", "-" for a dimensionless one
 };
 
 struct TermInfo {
   Term term;
-  std::string name;        ///< library name, e.g. "surface_polishing"
-  std::string statement;   ///< one-line physical statement
-  bool physical;           ///< false for the sensor terms
-  bool affects[kNumOutputs];  ///< side force, wear
+  std::string name;                           ///< library name, e.g. "surface_polishing"
+  std::string statement;                      ///< one-line physical statement
+  bool physical;                              ///< false for the sensor terms
+  bool affects[kNumOutputs];                  ///< side force, wear
   std::vector<TermParameterSpec> parameters;  ///< empty for turn_slip_orientation (a discrete switch)
-  int primary;             ///< index of the parameter that measures the effect's size; -1 for none
-  double temperature_ref_c = 23.0;  ///< thermal_friction reference temperature [degC] (the rig's ambient)
+  int primary;                                ///< index of the parameter that measures the effect's size; -1 for none
+  double temperature_ref_c = 23.0;            ///< thermal_friction reference temperature [degC] (the rig's ambient)
   std::shared_ptr<const UserMechanism> user = nullptr;  ///< a user-defined mechanism's expression; null if built in
 };
 
@@ -132,14 +133,25 @@ struct Prediction {
 };
 
 struct ExtendedModelOptions {
-  Preset preset = Preset::kFast;                                 ///< resolution of the brush model
+  Preset preset = Preset::kFast;                                    ///< resolution of the brush model
   TurnSlipOrientation orientation = TurnSlipOrientation::kLiteral;  ///< base orientation
   /// Drive segments on the coarse cells only (the solver-error check: the difference of two presets varies
   /// little across a coarse cell); otherwise fine cells with the coarse correction (see the file comment).
   bool coarse_drive_cells = false;
+  /// Drive segments: with no friction, compliance or spread term away from its no-effect value, the coarse cells'
+  /// results at a mu_scale are interpolated (Catmull-Rom, in ln mu_scale) between results at nodes
+  /// kMuScaleNodeSpacing apart, each evaluated once and shared by every fit of the diagnosis (a fit of w3_scale and
+  /// mu_scale then re-simulates a few nodes instead of every cell at every trial value). Off: every mu_scale is
+  /// evaluated as it is (the solver-error check, which compares presets cell by cell).
+  bool interpolate_mu_scale = true;
   /// Threads evaluating the brush model's cells and runs (parallel_for.h); the results do not depend on it, >= 1
   int jobs = 1;
 };
+
+/// Spacing of the mu_scale nodes of ExtendedModelOptions::interpolate_mu_scale, in ln mu_scale [-]: 1% of friction.
+/// On the 12-drive bag of docs/diagnosis.md the interpolated W_r of a cell differs from its evaluation by at most
+/// about 1e-5 relative, against the coarse cells' own 0.5% (the fixed grid's noise is of the same order).
+constexpr double kMuScaleNodeSpacing = 0.01;
 
 /// A coarse drive cell's part of one drive segment's predictions (ExtendedModel::coarseCellContributions).
 struct CellContribution {
@@ -209,6 +221,16 @@ class ExtendedModel {
   /// The brush results of the steady runs (0..n-1) and the coarse drive cells (n..) at `values`, from the cache
   /// or evaluated; null when the model cannot be evaluated there.
   const std::vector<RawResult>* rawResults(const std::vector<double>& values) const;
+  /// The steady runs evaluated as they are and the coarse cells interpolated in mu_scale between nodes
+  /// (interpolate_mu_scale); null when a node cannot be evaluated.
+  std::vector<RawResult> interpolatedResults(const BrushSetting& setting, bool* ok) const;
+  /// Whether the coarse cells at `setting` are interpolated (interpolate_mu_scale, the other brush parameters at
+  /// their no-effect values).
+  bool interpolates(const BrushSetting& setting) const;
+  /// The coarse cells evaluated at a node of mu_scale, from the data's node cache or evaluated into it.
+  const std::vector<RawResult>* nodeResults(const BrushSetting& node) const;
+  /// The brush results of the steady runs and coarse cells at `setting` (points with a null entry are skipped).
+  std::vector<const DiagnosisRun*> brushPoints(bool steady, bool coarse) const;
   /// The fine drive cells at `values`: at the base parameters, carried by the coarse cells' change in `raw`.
   bool fineDriveResults(const std::vector<double>& values, const std::vector<RawResult>& raw,
                         std::vector<RawResult>* fine) const;
@@ -228,7 +250,7 @@ class ExtendedModel {
   std::vector<std::pair<int, std::shared_ptr<MechanismEvaluator>>> user_terms_;
   const DiagnosisData& data_;
   BrushOptions brush_options_;
-  std::size_t distinct_steady_ = 0;  ///< distinct conditions of the steady runs
+  std::size_t distinct_steady_ = 0;    ///< distinct conditions of the steady runs
   std::shared_ptr<DriveCells> drive_;  ///< the data's drive cells (null without drive segments)
   mutable long brush_evaluations_ = 0;
   /// Brush results for the last few values of the brush-relevant parameters: the steady runs, then the coarse
