@@ -32,7 +32,7 @@ const char* const kDiagnoseUsage =
     "       [--wear-noise-model auto|additive|relative|combined]\n"
     "       [--candidates a,b,...] [--mechanisms FILE]\n"
     "       [--max-terms N] [--alpha-locate X] [--alpha-select X] [--detection-power X] [--seed N]\n"
-    "       [--plot-script PATH | --no-plots] [--jobs N] [--quiet]\n"
+    "       [--plot-script PATH | --no-plots] [--jobs N] [--quiet] [--numerics-sample-cells N]\n"
     "       [--input-timeout-s S] [--update-rate-hz HZ]   (--bag: integration of each wheel's inputs)\n";
 
 /// "tread_wear_diagnose: [fast 12.3 s] selection step 1: 4/9 terms, 1,234,567 cells evaluated, about 40 s left in
@@ -59,7 +59,8 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
       a.parse(argc, argv,
               {"params", "runs", "bag", "report", "orientation", "preset", "candidates", "max-terms", "alpha-locate",
                "alpha-select", "detection-power", "seed", "plot-script", "force-noise-model", "wear-noise-model",
-               "mechanisms", "input-timeout-s", "update-rate-hz", "jobs"},
+               "mechanisms", "input-timeout-s", "update-rate-hz", "jobs",
+                                     "numerics-sample-cells"},
               {"no-plots", "quiet"}, &parse_error);
   auto usage = [&](const std::string& msg) { return usageError(err, "tread_wear_diagnose", msg, kDiagnoseUsage); };
   if (a.help()) {
@@ -86,7 +87,9 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
   }
   int seed = static_cast<int>(opt.seed);
   opt.model.jobs = defaultJobs();
-  if (!a.integer("jobs", &opt.model.jobs, &e)) return usage(e);
+  if (!a.integer("jobs", &opt.model.jobs, &e) ||
+      !a.integer("numerics-sample-cells", &opt.numerics_sampling.first_sample_cells, &e))
+    return usage(e);
   if (opt.model.jobs < 1 || opt.model.jobs > 256) return usage("--jobs must be an integer in 1..256");
   if (!a.has("quiet")) opt.progress = [&err](const DiagnosisProgress& p) { err << progressLine(p) << "\n"; };
   if (!a.integer("max-terms", &opt.max_terms, &e) || !a.number("alpha-locate", &opt.alpha_locate, &e) ||

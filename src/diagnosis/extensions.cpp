@@ -200,6 +200,13 @@ bool termApplicable(Term term, const DiagnosisData& data, std::string* why_not) 
   }
 }
 
+/// The coarse cells at a node of the friction factor (ExtendedModelOptions::interpolate_mu_scale): each cell is
+/// evaluated when an interpolation first needs it there, and kept for the whole diagnosis.
+struct DriveNodeColumn {
+  std::vector<ExtendedModel::RawResult> result;  ///< per coarse cell
+  std::vector<char> done;                        ///< whether result[c] has been evaluated
+};
+
 /// The drive segments' cells at the two resolutions (file comment of extensions.h) and their evaluations at the
 /// base brush parameters, per (preset, orientation).
 struct DriveCells {
@@ -216,9 +223,7 @@ struct DriveCells {
   /// Brush results of the steady runs and the coarse cells per (preset key, brush parameters), shared by every
   /// model of the data (ExtendedModel::rawResults); guarded with the stores above by raw_cache_lock.
   std::map<std::vector<double>, std::vector<ExtendedModel::RawResult>> raw_cache;
-  /// The coarse cells at the mu_scale nodes (ExtendedModelOptions::interpolate_mu_scale), kept for the whole
-  /// diagnosis (a few dozen nodes at most).
-  std::map<std::vector<double>, std::vector<ExtendedModel::RawResult>> node_cache;
+  std::map<std::vector<double>, DriveNodeColumn> node_cache;  ///< by preset key and node index
   std::mutex raw_cache_lock;
 };
 
@@ -570,64 +575,94 @@ std::vector<const DiagnosisRun*> ExtendedModel::brushPoints(bool steady, bool co
 }
 
 bool ExtendedModel::interpolates(const BrushSetting& s) const {
-  return drive_ && options_.interpolate_mu_scale && s.k_t == 0.0 && s.compliance == 0.0 && s.q == base_.friction.q &&
+  return drive_ && options_.interpolate_mu_scale && s.compliance == 0.0 && s.q == base_.friction.q &&
          s.load_std_scale == 0.0;
 }
 
 std::vector<ExtendedModel::RawResult> ExtendedModel::interpolatedResults(const BrushSetting& s, bool* ok) const {
-  const std::size_t n = data_.runs.size();
-  std::vector<RawResult> raw(brushPoints(true, true).size());
+  const std::size_t n = data_.runs.size(), n_coarse = drive_->coarse.size();
+  std::vector<RawResult> raw(n + n_coarse);
   *ok = true;
   try {
-    const std::vector<const DiagnosisRun*> steady = brushPoints(true, false);
-    if (!evaluatePoints(s, steady, &raw)) *ok = false;
+    *ok = evaluatePoints(s, brushPoints(true, false), &raw);  // the steady runs as they are
   } catch (const std::exception&) {
     *ok = false;
   }
+  // Each cell's place among the nodes: its friction factor (mu_scale, times thermal_friction's factor at the cell's
+  // temperature) in ln, over the spacing.
+  std::vector<double> x(n_coarse);
+  const double t_ref = termInfo(Term::kThermalFriction).temperature_ref_c;
+  for (std::size_t c = 0; *ok && c < n_coarse; ++c) {
+    double factor = s.mu_scale;
+    if (s.k_t != 0.0) {
+      const double thermal = 1.0 - s.k_t * (drive_->coarse[c].tread_temperature_c - t_ref);
+      if (!(thermal > 0.05)) *ok = false;  // friction would vanish (or no temperature): outside the term's validity
+      factor *= thermal;
+    }
+    x[c] = std::log(factor) / kMuScaleNodeSpacing;
+  }
   if (!*ok) return raw;
-  // Catmull-Rom between the nodes j and j + 1 around x = ln(mu_scale) / spacing, with the nodes j - 1 and j + 2
-  // for the slopes (C1 in mu_scale, exact at the nodes: mu_scale 1 is node 0).
-  const double x = std::log(s.mu_scale) / kMuScaleNodeSpacing;
-  const double j = std::floor(x), t = x - j;
-  const double weight[4] = {0.5 * (-t * t * t + 2 * t * t - t), 0.5 * (3 * t * t * t - 5 * t * t + 2),
-                            0.5 * (-3 * t * t * t + 4 * t * t + t), 0.5 * (t * t * t - t * t)};
-  for (int k = 0; k < 4; ++k) {
-    if (weight[k] == 0.0) continue;
-    BrushSetting node = s;
-    node.mu_scale = std::exp((j - 1 + k) * kMuScaleNodeSpacing);
-    const std::vector<RawResult>* at_node = nodeResults(node);
-    if (at_node == nullptr) {
+  std::map<long, std::vector<int>> cells_of_node;
+  for (std::size_t c = 0; c < n_coarse; ++c) {
+    const long j = static_cast<long>(std::floor(x[c]));
+    for (long node = j - 1; node <= j + 2; ++node) cells_of_node[node].push_back(static_cast<int>(c));
+  }
+  std::map<long, const DriveNodeColumn*> columns;
+  for (const auto& [node, cells] : cells_of_node) {
+    columns[node] = nodeColumn(node, cells);
+    if (columns[node] == nullptr) {
       *ok = false;
       return raw;
     }
-    for (std::size_t c = n; c < raw.size(); ++c) {
-      raw[c].fy_n += weight[k] * (*at_node)[c].fy_n;
-      raw[c].wear_w3_kg_per_m += weight[k] * (*at_node)[c].wear_w3_kg_per_m;
-      raw[c].wear_w4_kg_per_m += weight[k] * (*at_node)[c].wear_w4_kg_per_m;
+  }
+  // Catmull-Rom between the nodes j and j + 1 around x, with the nodes j - 1 and j + 2 for the slopes (C1 in
+  // the friction factor, exact at the nodes: mu_scale 1 is node 0).
+  for (std::size_t c = 0; c < n_coarse; ++c) {
+    const double j = std::floor(x[c]), t = x[c] - j;
+    const double weight[4] = {0.5 * (-t * t * t + 2 * t * t - t), 0.5 * (3 * t * t * t - 5 * t * t + 2),
+                              0.5 * (-3 * t * t * t + 4 * t * t + t), 0.5 * (t * t * t - t * t)};
+    RawResult& r = raw[n + c];
+    r = RawResult{0.0, 0.0, 0.0};
+    for (int k = 0; k < 4; ++k) {
+      const RawResult& at = columns.at(static_cast<long>(j) - 1 + k)->result[c];
+      r.fy_n += weight[k] * at.fy_n;
+      r.wear_w3_kg_per_m += weight[k] * at.wear_w3_kg_per_m;
+      r.wear_w4_kg_per_m += weight[k] * at.wear_w4_kg_per_m;
     }
   }
   return raw;
 }
 
-const std::vector<ExtendedModel::RawResult>* ExtendedModel::nodeResults(const BrushSetting& node) const {
+const DriveNodeColumn* ExtendedModel::nodeColumn(long node, const std::vector<int>& cells) const {
   std::vector<double> key = presetKey();
-  key.push_back(-1.0);  // a node: the coarse cells only, evaluated as they are
-  key.insert(key.end(), {node.mu_scale, node.k_t, node.compliance, node.q, node.load_std_scale});
+  key.push_back(static_cast<double>(node));
+  std::vector<int> missing;
+  DriveNodeColumn* column = nullptr;
   {
     std::lock_guard<std::mutex> lock(drive_->raw_cache_lock);
-    const auto found = drive_->node_cache.find(key);
-    if (found != drive_->node_cache.end()) return &found->second;
+    column = &drive_->node_cache[key];
+    column->result.resize(drive_->coarse.size());
+    column->done.resize(drive_->coarse.size(), 0);
+    for (int c : cells)
+      if (!column->done[static_cast<std::size_t>(c)]) missing.push_back(c);
   }
-  const std::vector<const DiagnosisRun*> points = brushPoints(false, true);
+  if (missing.empty()) return column;
+  std::vector<const DiagnosisRun*> points;
+  for (int c : missing) points.push_back(&drive_->coarse[static_cast<std::size_t>(c)]);
   std::vector<RawResult> raw(points.size());
+  const BrushSetting at_node{std::exp(node * kMuScaleNodeSpacing), 0.0, 0.0, base_.friction.q, 0.0};
   try {
-    if (!evaluatePoints(node, points, &raw)) return nullptr;
+    if (!evaluatePoints(at_node, points, &raw)) return nullptr;
   } catch (const std::exception&) {
     return nullptr;
   }
-  brush_evaluations_ += static_cast<long>(drive_->coarse.size());
+  brush_evaluations_ += static_cast<long>(missing.size());
   std::lock_guard<std::mutex> lock(drive_->raw_cache_lock);
-  return &drive_->node_cache.emplace(key, std::move(raw)).first->second;
+  for (std::size_t k = 0; k < missing.size(); ++k) {
+    column->result[static_cast<std::size_t>(missing[k])] = raw[k];
+    column->done[static_cast<std::size_t>(missing[k])] = 1;
+  }
+  return column;
 }
 
 std::vector<double> ExtendedModel::presetKey() const {

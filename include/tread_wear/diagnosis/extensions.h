@@ -74,6 +74,7 @@ enum class Term {
 struct UserMechanism;
 class MechanismEvaluator;
 struct DriveCells;
+struct DriveNodeColumn;
 
 struct TermParameterSpec {
   std::string name;     ///< e.g. "compliance_rad_per_n"
@@ -138,11 +139,12 @@ struct ExtendedModelOptions {
   /// Drive segments on the coarse cells only (the solver-error check: the difference of two presets varies
   /// little across a coarse cell); otherwise fine cells with the coarse correction (see the file comment).
   bool coarse_drive_cells = false;
-  /// Drive segments: with no friction, compliance or spread term away from its no-effect value, the coarse cells'
-  /// results at a mu_scale are interpolated (Catmull-Rom, in ln mu_scale) between results at nodes
-  /// kMuScaleNodeSpacing apart, each evaluated once and shared by every fit of the diagnosis (a fit of w3_scale and
-  /// mu_scale then re-simulates a few nodes instead of every cell at every trial value). Off: every mu_scale is
-  /// evaluated as it is (the solver-error check, which compares presets cell by cell).
+  /// Drive segments: with no pressure, compliance or spread term away from its no-effect value, a coarse cell's
+  /// results are interpolated (Catmull-Rom, in the ln of its friction factor: mu_scale times thermal_friction's
+  /// factor at the cell's temperature) between results at nodes kMuScaleNodeSpacing apart, each evaluated once
+  /// per cell and shared by every fit of the diagnosis (a fit of mu_scale or k_T then re-simulates a few nodes
+  /// instead of every cell at every trial value). Off: each friction factor is evaluated as it is (the
+  /// solver-error check, which compares presets cell by cell).
   bool interpolate_mu_scale = true;
   /// Threads evaluating the brush model's cells and runs (parallel_for.h); the results do not depend on it, >= 1
   int jobs = 1;
@@ -227,8 +229,9 @@ class ExtendedModel {
   /// Whether the coarse cells at `setting` are interpolated (interpolate_mu_scale, the other brush parameters at
   /// their no-effect values).
   bool interpolates(const BrushSetting& setting) const;
-  /// The coarse cells evaluated at a node of mu_scale, from the data's node cache or evaluated into it.
-  const std::vector<RawResult>* nodeResults(const BrushSetting& node) const;
+  /// The coarse cells at a node of the friction factor, with at least `cells` evaluated (from the data's node
+  /// cache, the missing ones evaluated into it); null when they cannot be evaluated.
+  const DriveNodeColumn* nodeColumn(long node, const std::vector<int>& cells) const;
   /// The brush results of the steady runs and coarse cells at `setting` (points with a null entry are skipped).
   std::vector<const DiagnosisRun*> brushPoints(bool steady, bool coarse) const;
   /// The fine drive cells at `values`: at the base parameters, carried by the coarse cells' change in `raw`.
