@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <memory>
 
 #include "tread_wear/diagnosis/conceal.h"
@@ -146,4 +147,33 @@ TEST(DriveNumerics, JobsOneAndTwoGiveIdenticalResults) {
   ASSERT_EQ(a.tried.size(), b.tried.size());
   for (std::size_t k = 0; k < a.tried.size(); ++k) EXPECT_EQ(a.tried[k].aicc, b.tried[k].aicc);
   EXPECT_FALSE(a.timings.empty());
+}
+
+TEST(DriveNumerics, InterpolatedFrictionMatchesTheDirectEvaluation) {
+  // The coarse cells interpolated between the friction nodes (interpolate_mu_scale) against every cell evaluated
+  // at the friction factor itself, off the nodes (mu_scale 0.937, and thermal_friction at k_T = 0.004 / K, which
+  // puts each cell at its own factor): the segments' predicted wear within kTolerance. The coarse cells' own error
+  // against the fine ones is 0.5% (docs/diagnosis.md), so the interpolation adds nothing a fit could see.
+  constexpr double kTolerance = 1e-4;
+  const TireParams base = passengerTire();
+  const DiagnosisData data = buildDiagnosisData(driveCase("none", 0.0, 0.0, 6).table);
+  for (const std::vector<Term>& terms : {std::vector<Term>{}, std::vector<Term>{Term::kThermalFriction}}) {
+    ExtendedModelOptions direct_options;
+    direct_options.coarse_drive_cells = true;
+    direct_options.interpolate_mu_scale = false;
+    ExtendedModelOptions interpolated_options = direct_options;
+    interpolated_options.interpolate_mu_scale = true;
+    const ExtendedModel direct(base, direct_options, terms, data),
+        interpolated(base, interpolated_options, terms, data);
+    std::vector<double> values = {1.0, 0.937};
+    if (!terms.empty()) values.push_back(0.004);
+    Prediction a, b;
+    ASSERT_TRUE(direct.predict(values, &a));
+    ASSERT_TRUE(interpolated.predict(values, &b));
+    double worst = 0.0;
+    for (std::size_t i = 0; i < data.runs.size(); ++i)
+      worst = std::max(worst, std::abs(b.wear_kg_per_m[i] / a.wear_kg_per_m[i] - 1.0));
+    EXPECT_LT(worst, kTolerance) << termsLabel(terms);
+    std::printf("%s: largest relative wear difference of a segment %.3g\n", termsLabel(terms).c_str(), worst);
+  }
 }
