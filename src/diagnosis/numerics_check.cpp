@@ -187,7 +187,9 @@ Eigen::VectorXd sampledSolverError(const ExtendedModel& preset, const ExtendedMo
   for (double& x : u) x = uniform(rng);
   std::map<int, Eigen::VectorXd> error_of;  // weighted solver error of each cell compared so far
   for (double n = sampling.first_sample_cells;; n *= kSampleGrowth) {
-    const std::vector<double> pi = inclusionProbabilities(importance, std::min<double>(n, c->cells));
+    // A sample as large as the cells takes every one (set exactly: the rescaling leaves some at 1 - 1e-16).
+    const std::vector<double> pi =
+        n >= c->cells ? std::vector<double>(importance.size(), 1.0) : inclusionProbabilities(importance, n);
     std::vector<int> sample, fresh;
     for (int k = 0; k < c->cells; ++k)
       if (u[static_cast<std::size_t>(k)] < pi[static_cast<std::size_t>(k)]) {
