@@ -54,7 +54,7 @@ ConcealCase driveCase(const std::string& effect, double magnitude, double wear_n
 
 TEST(DriveNumerics, SampledCheckBracketsTheCheckOnEveryCell) {
   // The reference is the check's own definition, every coarse cell predicted at both presets. A wear noise of
-  // 0.5% makes fast's solver error (several % in W_r on these cells) fail the check, one of 5% pass it. Five
+  // 0.5% makes fast's solver error (several % in W_r on these cells) fail the check, one of 5% pass it. Three
   // sample seeds each: the interval is a 95% one (by the triangle inequality, conservative); allow one miss.
   const TireParams base = passengerTire();
   const DiagnosisData data = buildDiagnosisData(driveCase("none", 0.0, 0.0, 3).table);
@@ -72,7 +72,7 @@ TEST(DriveNumerics, SampledCheckBracketsTheCheckOnEveryCell) {
     ASSERT_GT(full.cells, 100);
     EXPECT_EQ(full.cells_compared, full.cells);
     int covered = 0, same_decision = 0;
-    for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+    for (std::uint64_t seed = 1; seed <= 3; ++seed) {
       NumericsSampling sample;
       sample.first_sample_cells = full.cells / 8;
       sample.seed = seed;
@@ -81,8 +81,8 @@ TEST(DriveNumerics, SampledCheckBracketsTheCheckOnEveryCell) {
       if (s.passed == full.passed) ++same_decision;
       EXPECT_LE(s.cells_compared, full.cells);
     }
-    EXPECT_GE(covered, 4) << "full lambda " << full.noncentrality;
-    EXPECT_EQ(same_decision, 5) << "full lambda " << full.noncentrality;
+    EXPECT_GE(covered, 2) << "full lambda " << full.noncentrality;
+    EXPECT_EQ(same_decision, 3) << "full lambda " << full.noncentrality;
   }
 }
 
@@ -152,9 +152,11 @@ TEST(DriveNumerics, JobsOneAndTwoGiveIdenticalResults) {
 TEST(DriveNumerics, InterpolatedFrictionMatchesTheDirectEvaluation) {
   // The coarse cells interpolated between the friction nodes (interpolate_mu_scale) against every cell evaluated
   // at the friction factor itself, off the nodes (mu_scale 0.937, and thermal_friction at k_T = 0.004 / K, which
-  // puts each cell at its own factor): the segments' predicted wear within kTolerance. The coarse cells' own error
-  // against the fine ones is 0.5% (docs/diagnosis.md), so the interpolation adds nothing a fit could see.
-  constexpr double kTolerance = 1e-4;
+  // puts each cell at its own factor): the segments' predicted wear within 1e-4 (measured 5.8e-5), and within 5e-4
+  // with thermal_friction, whose direct evaluation rounds each cell's temperature to 0.1 degC (a friction factor
+  // off by up to k_T x 0.05 K = 2e-4; measured 1.7e-4). The coarse cells' own error against the fine ones is 0.5%
+  // (docs/diagnosis.md), so the interpolation adds nothing a fit could see.
+  constexpr double kTolerance = 1e-4, kThermalTolerance = 5e-4;
   const TireParams base = passengerTire();
   const DiagnosisData data = buildDiagnosisData(driveCase("none", 0.0, 0.0, 6).table);
   for (const std::vector<Term>& terms : {std::vector<Term>{}, std::vector<Term>{Term::kThermalFriction}}) {
@@ -173,7 +175,7 @@ TEST(DriveNumerics, InterpolatedFrictionMatchesTheDirectEvaluation) {
     double worst = 0.0;
     for (std::size_t i = 0; i < data.runs.size(); ++i)
       worst = std::max(worst, std::abs(b.wear_kg_per_m[i] / a.wear_kg_per_m[i] - 1.0));
-    EXPECT_LT(worst, kTolerance) << termsLabel(terms);
+    EXPECT_LT(worst, terms.empty() ? kTolerance : kThermalTolerance) << termsLabel(terms);
     std::printf("%s: largest relative wear difference of a segment %.3g\n", termsLabel(terms).c_str(), worst);
   }
 }
