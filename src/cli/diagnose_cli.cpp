@@ -49,19 +49,72 @@ std::string progressLine(const DiagnosisProgress& p) {
   return line;
 }
 
+/// The verdict on stdout: explanation, residual covariates, empirical terms, close alternatives, held-out errors and,
+/// after a `none`, what it rules out.
+void printVerdict(const DiagnosisResult& result, std::ostream& out) {
+  out << "mismatch_found: " << (result.mismatch_found ? "true" : "false") << "\nexplanation: " << result.explanation
+      << "\n";
+  for (const std::string& c : result.unexplained_covariates) out << "residual follows: " << c << "\n";
+  for (const EmpiricalTerm& t : result.empirical.terms)
+    out << "empirical (not physics, no library mechanism matches): " << empiricalSummary(t) << "\n";
+  for (const CloseAlternative& c : result.close_alternatives) {
+    char line[200];
+    std::snprintf(line, sizeof(line), "about as well supported: %s instead of %s (AICc %+.2f)\n", c.model.c_str(),
+                  c.instead_of.c_str(), c.delta_aicc);
+    out << line;
+  }
+  char held_out[160];
+  std::snprintf(held_out, sizeof(held_out), "held-out RMSER: side force %.2f%% -> %.2f%%, wear %.2f%% -> %.2f%%\n",
+                100.0 * result.base.cv_rmser[0], 100.0 * result.final_model.cv_rmser[0],
+                100.0 * result.base.cv_rmser[1], 100.0 * result.final_model.cv_rmser[1]);
+  out << held_out;
+  if (result.explanation == "none")  // what the `none` rules out; every verdict has the table in report.md
+    for (const DetectionLimit& l : result.detection_limits) {
+      if (std::isnan(l.below) && std::isnan(l.above)) continue;
+      char line[200];
+      std::snprintf(line, sizeof(line), "would have found (power %g): %s %s", result.detection_power, l.term.c_str(),
+                    l.parameter.c_str());
+      out << line;
+      if (std::isfinite(l.below)) {
+        std::snprintf(line, sizeof(line), " <= %.3g", l.below);
+        out << line << (std::isfinite(l.above) ? " or" : "");
+      }
+      if (std::isfinite(l.above)) {
+        std::snprintf(line, sizeof(line), " >= %.3g", l.above);
+        out << line;
+      }
+      out << "\n";
+    }
+}
+
 }  // namespace
 
 int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_reader,
                    const std::string& default_plot_script, std::ostream& out, std::ostream& err) {
   CommandLine a;
   std::string parse_error;
-  const bool parsed =
-      a.parse(argc, argv,
-              {"params", "runs", "bag", "report", "orientation", "preset", "candidates", "max-terms", "alpha-locate",
-               "alpha-select", "detection-power", "seed", "plot-script", "force-noise-model", "wear-noise-model",
-               "mechanisms", "input-timeout-s", "update-rate-hz", "jobs",
-                                     "numerics-sample-cells"},
-              {"no-plots", "quiet"}, &parse_error);
+  const bool parsed = a.parse(argc, argv,
+                              {"params",
+                               "runs",
+                               "bag",
+                               "report",
+                               "orientation",
+                               "preset",
+                               "candidates",
+                               "max-terms",
+                               "alpha-locate",
+                               "alpha-select",
+                               "detection-power",
+                               "seed",
+                               "plot-script",
+                               "force-noise-model",
+                               "wear-noise-model",
+                               "mechanisms",
+                               "input-timeout-s",
+                               "update-rate-hz",
+                               "jobs",
+                               "numerics-sample-cells"},
+                              {"no-plots", "quiet"}, &parse_error);
   auto usage = [&](const std::string& msg) { return usageError(err, "tread_wear_diagnose", msg, kDiagnoseUsage); };
   if (a.help()) {
     out << kDiagnoseUsage;
@@ -156,39 +209,7 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
       f << diagnosisMarkdown(result, data, source, plots);
       if (!f) throw std::runtime_error("cannot write " + (dir / "report.md").string());
     }
-    out << "mismatch_found: " << (result.mismatch_found ? "true" : "false") << "\nexplanation: " << result.explanation
-        << "\n";
-    for (const std::string& c : result.unexplained_covariates) out << "residual follows: " << c << "\n";
-    for (const EmpiricalTerm& t : result.empirical.terms)
-      out << "empirical (not physics, no library mechanism matches): " << empiricalSummary(t) << "\n";
-    for (const CloseAlternative& c : result.close_alternatives) {
-      char line[200];
-      std::snprintf(line, sizeof(line), "about as well supported: %s instead of %s (AICc %+.2f)\n", c.model.c_str(),
-                    c.instead_of.c_str(), c.delta_aicc);
-      out << line;
-    }
-    char held_out[160];
-    std::snprintf(held_out, sizeof(held_out), "held-out RMSER: side force %.2f%% -> %.2f%%, wear %.2f%% -> %.2f%%\n",
-                  100.0 * result.base.cv_rmser[0], 100.0 * result.final_model.cv_rmser[0],
-                  100.0 * result.base.cv_rmser[1], 100.0 * result.final_model.cv_rmser[1]);
-    out << held_out;
-    if (result.explanation == "none")  // what the `none` rules out; every verdict has the table in report.md
-      for (const DetectionLimit& l : result.detection_limits) {
-        if (std::isnan(l.below) && std::isnan(l.above)) continue;
-        char line[200];
-        std::snprintf(line, sizeof(line), "would have found (power %g): %s %s", result.detection_power, l.term.c_str(),
-                      l.parameter.c_str());
-        out << line;
-        if (std::isfinite(l.below)) {
-          std::snprintf(line, sizeof(line), " <= %.3g", l.below);
-          out << line << (std::isfinite(l.above) ? " or" : "");
-        }
-        if (std::isfinite(l.above)) {
-          std::snprintf(line, sizeof(line), " >= %.3g", l.above);
-          out << line;
-        }
-        out << "\n";
-      }
+    printVerdict(result, out);
     out << "report: " << (dir / "report.md").string() << "\n";
     return 0;
   } catch (const std::exception& ex) {

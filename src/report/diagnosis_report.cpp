@@ -108,6 +108,18 @@ nlohmann::json noiseModelsJson(const DiagnosisResult& r) {
   return j;
 }
 
+/// "Time per step": wall time and brush evaluations of each step of the diagnosis ("" without timings).
+std::string timingsMarkdown(const DiagnosisResult& r) {
+  if (r.timings.empty()) return "";
+  std::ostringstream m;
+  m << "\n## Time per step\n\n| step | preset | wall time [s] | brush evaluations |\n|---|---|---|---|\n";
+  for (const StepTiming& t : r.timings)
+    m << "| " << t.step << " | " << presetName(t.preset) << " | " << g(t.seconds, 3) << " | " << t.cells_evaluated
+      << " |\n";
+  m << "| **total** | | **" << g(r.seconds, 3) << "** | |\n";
+  return m.str();
+}
+
 /// The solver-error checks and the decision on the preset (numerics_check.h).
 nlohmann::json numericsJson(const DiagnosisResult& r) {
   nlohmann::json checks = nlohmann::json::array();
@@ -427,13 +439,7 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
   }
   m << "\nSpread of repeats " << pct(r.pure_error[0]) << " / " << pct(r.pure_error[1])
     << " (side force / wear, relative). With few runs the F test and AICc are indicative only.\n";
-  if (!r.timings.empty()) {
-    m << "\n## Time per step\n\n| step | preset | wall time [s] | brush evaluations |\n|---|---|---|---|\n";
-    for (const StepTiming& t : r.timings)
-      m << "| " << t.step << " | " << presetName(t.preset) << " | " << g(t.seconds, 3) << " | " << t.cells_evaluated
-        << " |\n";
-    m << "| **total** | | **" << g(r.seconds, 3) << "** | |\n";
-  }
+  m << timingsMarkdown(r);
   return m.str();
 }
 
