@@ -1,6 +1,7 @@
 #include "tread_wear/diagnosis/diagnosis.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -417,7 +418,9 @@ bool DiagnosisOptions::validate(std::string* error) const {
                 " must be at least model.preset = " + presetName(model.preset));
   if (!(detection_power >= 0.0 && detection_power < 1.0))
     return fail("detection_power = " + format(detection_power) + " must be in (0, 1), or 0 for none");
+  if (model.jobs < 1) return fail("model.jobs = " + std::to_string(model.jobs) + " must be >= 1");
   std::string e;
+  if (!numerics_sampling.validate(&e)) return fail(e);
   if (!solver.validate(&e)) return fail(e);
   return true;
 }
@@ -507,11 +510,154 @@ NoiseModel sizedNoise(const DiagnosisData& data, const FittedModel& fitted, cons
   return shape.scaled(std::max(factor, kNoiseFloor[o] / relative_rms));
 }
 
+/// Times the steps of a diagnosis (DiagnosisResult::timings) and reports where it is (DiagnosisOptions::progress).
+class StepClock {
+ public:
+  using Clock = std::chrono::steady_clock;
+  explicit StepClock(const DiagnosisOptions& options)
+      : options_(options), start_(Clock::now()), cells_at_start_(cellsEvaluated().load()) {}
+
+  void setPreset(Preset preset) { preset_ = preset; }
+  /// Starts a step; terms_in_step > 0 for a selection step (its progress then counts the terms fitted).
+  void begin(const std::string& step, int terms_in_step = 0) {
+    step_ = step;
+    step_start_ = Clock::now();
+    cells_at_step_ = cellsEvaluated().load();
+    terms_in_step_ = terms_in_step;
+    terms_tried_ = 0;
+    report(-1.0);
+  }
+  /// A term of the current selection step is fitted: the time left is the mean time per term so far times the
+  /// terms still to fit (the cross-validation of the eligible ones comes on top).
+  void termTried() {
+    ++terms_tried_;
+    const double in_step = seconds(step_start_);
+    report(in_step / terms_tried_ * (terms_in_step_ - terms_tried_));
+  }
+  /// Ends the current step into `timings`.
+  void end(std::vector<StepTiming>* timings) const {
+    timings->push_back({step_, preset_, seconds(step_start_), cellsEvaluated().load() - cells_at_step_});
+  }
+  double elapsed() const { return seconds(start_); }
+
+ private:
+  static double seconds(Clock::time_point since) { return std::chrono::duration<double>(Clock::now() - since).count(); }
+  void report(double step_left_s) const {
+    if (!options_.progress) return;
+    DiagnosisProgress p;
+    p.step = step_;
+    p.preset = preset_;
+    p.cells_evaluated = cellsEvaluated().load() - cells_at_start_;
+    p.terms_tried = terms_tried_;
+    p.terms_in_step = terms_in_step_;
+    p.elapsed_s = elapsed();
+    p.step_left_s = step_left_s;
+    options_.progress(p);
+  }
+
+  const DiagnosisOptions& options_;
+  Clock::time_point start_, step_start_;
+  long cells_at_start_ = 0, cells_at_step_ = 0;
+  Preset preset_ = Preset::kFast;
+  std::string step_;
+  int terms_in_step_ = 0, terms_tried_ = 0;
+};
+
+/// Step 4, forward selection from the base model over the applicable terms: each step fits every term not yet in
+/// the model, cross-validates the eligible ones and accepts the best if it is better out of sample (the pair step
+/// significantly so). Returns the final model; the models tried, the log and the close alternatives go into
+/// *result.
+FittedModel forwardSelection(Fitter& fitter, const std::vector<Term>& applicable, const DiagnosisOptions& options,
+                             const std::function<FittedModel(const FittedModel&)>& reweight, StepClock& clock,
+                             DiagnosisResult* result_out) {
+  DiagnosisResult& result = *result_out;
+  FittedModel current = result.base;
+  for (int step = 0; step < options.max_terms; ++step) {
+    if (reproducedExactly(current)) {
+      result.log.push_back("step " + std::to_string(step + 1) + " from '" + current.label +
+                           "': every output reproduced within numerical resolution (RMSER < " +
+                           format(kNumericalResolution) + "): stop");
+      break;
+    }
+    int to_fit = 0;
+    for (Term t : applicable) to_fit += std::find(current.terms.begin(), current.terms.end(), t) == current.terms.end();
+    clock.begin("selection step " + std::to_string(step + 1), to_fit);
+    std::vector<FittedModel> fits;
+    for (Term t : applicable) {
+      if (std::find(current.terms.begin(), current.terms.end(), t) != current.terms.end()) continue;
+      std::vector<Term> terms = current.terms;
+      terms.push_back(t);
+      FittedModel f = fitter.fit(terms, valuesByName(current), false);
+      f.parent = current.label;
+      if (f.usable) f.p_vs_parent = pValueVsParent(current, f, t);
+      fits.push_back(std::move(f));
+      clock.termTried();
+    }
+    if (fits.empty()) {
+      clock.end(&result.timings);
+      break;
+    }
+    const double threshold = options.alpha_select / static_cast<double>(fits.size());
+    std::vector<int> eligible;
+    for (std::size_t i = 0; i < fits.size(); ++i) {
+      FittedModel& f = fits[i];
+      f.eligible = f.usable && f.p_vs_parent < threshold && current.aicc - f.aicc >= options.min_aicc_drop;
+      if (f.eligible) eligible.push_back(static_cast<int>(i));
+    }
+    std::sort(eligible.begin(), eligible.end(), [&](int a, int b) { return fits[a].aicc < fits[b].aicc; });
+    if (static_cast<int>(eligible.size()) > options.max_cv_candidates) eligible.resize(options.max_cv_candidates);
+    int best = -1;
+    for (int i : eligible) {
+      fitter.crossValidateModel(&fits[i]);
+      if (fits[i].cv_done && (best < 0 || fits[i].cv_score < fits[best].cv_score)) best = i;
+    }
+    std::ostringstream line;
+    line << "step " << step + 1 << " from '" << current.label << "': " << fits.size() << " terms tried, "
+         << eligible.size() << " eligible (F test p < " << format(threshold, 3)
+         << ", AICc drop >= " << options.min_aicc_drop << ")";
+    const bool better = best >= 0 && fits[best].cv_score < current.cv_score;
+    bool accept = better;
+    if (best >= 0)
+      line << "; best held out: " << fits[best].label << " (score " << format(fits[best].cv_score) << " vs "
+           << format(current.cv_score) << ")";
+    if (better && !current.terms.empty()) {
+      // Extending an explanation: what is left after the first term is near the noise, where the F test's
+      // equal-variance assumption fails first (error ratios of an additive transducer noise), so the held-out
+      // improvement must be significant, not merely present. The first term keeps the plain comparison: a
+      // physical effect often shows in only a few conditions of a design (slip angle, load), which a rank test
+      // over all runs would miss.
+      fits[best].p_held_out = heldOutImprovementPValue(fits[best], current);
+      accept = fits[best].p_held_out < options.alpha_select;
+      line << ", held-out improvement over runs p = " << format(fits[best].p_held_out, 3) << " (Wilcoxon, < "
+           << options.alpha_select << (accept ? ")" : " needed)");
+    }
+    if (best < 0)
+      line << ": stop";
+    else if (!better)
+      line << ", not better out of sample: stop";
+    else
+      line << (accept ? ", accepted" : ": stop");
+    result.log.push_back(line.str());
+    if (accept)
+      for (int i : eligible) {
+        const double delta = fits[i].aicc - fits[best].aicc;
+        if (i != best && delta < options.min_aicc_drop)
+          result.close_alternatives.push_back({fits[i].label, fits[best].label, delta});
+      }
+    for (FittedModel& f : fits) result.tried.push_back(f);
+    if (accept) current = reweight(fits[best]);
+    clock.end(&result.timings);
+    if (!accept) break;
+  }
+  return current;
+}
+
 /// Runs steps 1-6 at options.model.preset, with the numerics check (step 0) at the base fit and at the final
 /// model; with `stop_on_failed_check`, returns right after a failed check at the base fit.
 DiagnosisResult diagnoseAtPreset(const TireParams& base, const DiagnosisData& data, const DiagnosisOptions& options,
-                                 bool stop_on_failed_check) {
+                                 bool stop_on_failed_check, StepClock& clock) {
   DiagnosisResult result;
+  clock.setPreset(options.model.preset);
   result.preset = options.model.preset;
   result.cv_scheme = data.cv_scheme;
 
@@ -533,21 +679,27 @@ DiagnosisResult diagnoseAtPreset(const TireParams& base, const DiagnosisData& da
     return fitter.fit(m.terms, valuesByName(m), true);
   };
   auto check = [&](const FittedModel& m) {
-    result.numerics.push_back(
-        checkNumerics(base, data, options.model, m.terms, m.summary.values(), result.weights, options.numerics_limit));
+    clock.begin("numerics check at '" + m.label + "'");
+    result.numerics.push_back(checkNumerics(base, data, options.model, m.terms, m.summary.values(), result.weights,
+                                            options.numerics_limit, options.numerics_sampling));
+    clock.end(&result.timings);
     return result.numerics.back().passed;
   };
 
   // 2. Base fit, then again with the noise models sized by its residuals.
+  clock.begin("base fit");
   result.base = fitter.fit({}, {}, false);
   if (!result.base.usable)
     throw std::invalid_argument("the base model could not be fitted: " + result.base.summary.message);
   for (int o = 0; o < kNumOutputs; ++o) result.noise[o] = noiseSelection(data, result.base, o, options.noise_kind[o]);
   result.base = reweight(result.base);
+  clock.end(&result.timings);
   if (!check(result.base) && stop_on_failed_check) return result;
 
   // 3. Locate.
+  clock.begin("locate");
   result.located_before = locate(data, result.base, result.weights, options, &result.not_located);
+  clock.end(&result.timings);
 
   // 4. Explain: forward selection.
   std::vector<Term> pool;
@@ -558,80 +710,18 @@ DiagnosisResult diagnoseAtPreset(const TireParams& base, const DiagnosisData& da
   std::vector<Term> applicable;
   for (Term t : pool) {
     std::string why;
-    if (termApplicable(t, data, &why)) applicable.push_back(t);
-    else result.skipped_terms.push_back(termInfo(t).name + ": " + why);
+    if (termApplicable(t, data, &why))
+      applicable.push_back(t);
+    else
+      result.skipped_terms.push_back(termInfo(t).name + ": " + why);
   }
   for (Term t : applicable)  // a user term must leave the model as it is at its no-effect values
     if (termInfo(t).user) checkNoEffect(termInfo(t), data, result.base.prediction);
-  FittedModel current = result.base;
-  for (int step = 0; step < options.max_terms; ++step) {
-    if (reproducedExactly(current)) {
-      result.log.push_back("step " + std::to_string(step + 1) + " from '" + current.label +
-                           "': every output reproduced within numerical resolution (RMSER < " +
-                           format(kNumericalResolution) + "): stop");
-      break;
-    }
-    std::vector<FittedModel> fits;
-    for (Term t : applicable) {
-      if (std::find(current.terms.begin(), current.terms.end(), t) != current.terms.end()) continue;
-      std::vector<Term> terms = current.terms;
-      terms.push_back(t);
-      FittedModel f = fitter.fit(terms, valuesByName(current), false);
-      f.parent = current.label;
-      if (f.usable) f.p_vs_parent = pValueVsParent(current, f, t);
-      fits.push_back(std::move(f));
-    }
-    if (fits.empty()) break;
-    const double threshold = options.alpha_select / static_cast<double>(fits.size());
-    std::vector<int> eligible;
-    for (std::size_t i = 0; i < fits.size(); ++i) {
-      FittedModel& f = fits[i];
-      f.eligible = f.usable && f.p_vs_parent < threshold && current.aicc - f.aicc >= options.min_aicc_drop;
-      if (f.eligible) eligible.push_back(static_cast<int>(i));
-    }
-    std::sort(eligible.begin(), eligible.end(), [&](int a, int b) { return fits[a].aicc < fits[b].aicc; });
-    if (static_cast<int>(eligible.size()) > options.max_cv_candidates) eligible.resize(options.max_cv_candidates);
-    int best = -1;
-    for (int i : eligible) {
-      fitter.crossValidateModel(&fits[i]);
-      if (fits[i].cv_done && (best < 0 || fits[i].cv_score < fits[best].cv_score)) best = i;
-    }
-    std::ostringstream line;
-    line << "step " << step + 1 << " from '" << current.label << "': " << fits.size() << " terms tried, "
-         << eligible.size() << " eligible (F test p < " << format(threshold, 3) << ", AICc drop >= "
-         << options.min_aicc_drop << ")";
-    const bool better = best >= 0 && fits[best].cv_score < current.cv_score;
-    bool accept = better;
-    if (best >= 0)
-      line << "; best held out: " << fits[best].label << " (score " << format(fits[best].cv_score) << " vs "
-           << format(current.cv_score) << ")";
-    if (better && !current.terms.empty()) {
-      // Extending an explanation: what is left after the first term is near the noise, where the F test's
-      // equal-variance assumption fails first (error ratios of an additive transducer noise), so the held-out
-      // improvement must be significant, not merely present. The first term keeps the plain comparison: a
-      // physical effect often shows in only a few conditions of a design (slip angle, load), which a rank test
-      // over all runs would miss.
-      fits[best].p_held_out = heldOutImprovementPValue(fits[best], current);
-      accept = fits[best].p_held_out < options.alpha_select;
-      line << ", held-out improvement over runs p = " << format(fits[best].p_held_out, 3) << " (Wilcoxon, < "
-           << options.alpha_select << (accept ? ")" : " needed)");
-    }
-    if (best < 0) line << ": stop";
-    else if (!better) line << ", not better out of sample: stop";
-    else line << (accept ? ", accepted" : ": stop");
-    result.log.push_back(line.str());
-    if (accept)
-      for (int i : eligible) {
-        const double delta = fits[i].aicc - fits[best].aicc;
-        if (i != best && delta < options.min_aicc_drop)
-          result.close_alternatives.push_back({fits[i].label, fits[best].label, delta});
-      }
-    for (FittedModel& f : fits) result.tried.push_back(f);
-    if (!accept) break;
-    current = reweight(fits[best]);
-  }
+  const FittedModel current = forwardSelection(fitter, applicable, options, reweight, clock, &result);
   result.final_model = current;
+  clock.begin("locate after");
   result.located_after = locate(data, current, result.weights, options, &result.not_located_after);
+  clock.end(&result.timings);
   if (!current.terms.empty()) check(current);
 
   // 5. Verdict.
@@ -648,7 +738,11 @@ DiagnosisResult diagnoseAtPreset(const TireParams& base, const DiagnosisData& da
     result.explanation = "none";
   }
   result.mismatch_found = result.explanation != "none";
-  if (options.empirical) result.empirical = fitEmpiricalTerms(base, data, options, result);
+  if (options.empirical && result.explanation == "unexplained") {
+    clock.begin("empirical terms");
+    result.empirical = fitEmpiricalTerms(base, data, options, result);
+    clock.end(&result.timings);
+  }
 
   // 6. Detection limits at the noise the final model leaves.
   estimateNoise(data, current, &result.side_force_noise_n, &result.wear_noise_rsd);
@@ -658,8 +752,10 @@ DiagnosisResult diagnoseAtPreset(const TireParams& base, const DiagnosisData& da
         detectabilityOptions(options, std::isfinite(result.wear_noise_rsd) ? result.wear_noise_rsd : 1.0,
                              std::isfinite(result.side_force_noise_n) ? result.side_force_noise_n : 1.0);
     result.detection_power = options.detection_power;
+    clock.begin("detection limits");
     result.detection_limits = detectionLimits(base, data, fittedValue(result.base, "w3_scale"),
                                               fittedValue(result.base, "mu_scale"), options.detection_power, d);
+    clock.end(&result.timings);
   }
   return result;
 }
@@ -674,15 +770,20 @@ DiagnosisResult diagnose(const TireParams& base, const DiagnosisData& data, cons
   if (!base.validate(&error)) throw std::invalid_argument(error);
   DiagnosisOptions at = options;
   std::vector<NumericsCheck> checks;
+  std::vector<StepTiming> timings;
+  StepClock clock(options);
   std::string path = presetName(options.model.preset);
   for (;;) {
-    DiagnosisResult r = diagnoseAtPreset(base, data, at, options.auto_preset);
+    DiagnosisResult r = diagnoseAtPreset(base, data, at, options.auto_preset, clock);
     const NumericsCheck last = r.numerics.back();
     checks.insert(checks.end(), r.numerics.begin(), r.numerics.end());
+    timings.insert(timings.end(), r.timings.begin(), r.timings.end());
     const bool passed =
         std::all_of(r.numerics.begin(), r.numerics.end(), [](const NumericsCheck& c) { return c.passed; });
     if (passed || !options.auto_preset) {
       r.numerics = checks;
+      r.timings = timings;
+      r.seconds = clock.elapsed();
       if (!options.auto_preset) {
         r.numerics_decision =
             std::string("preset ") + presetName(at.model.preset) + " (given): " +

@@ -5,9 +5,11 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <set>
 #include <stdexcept>
 
+#include "tread_wear/diagnosis/parallel_for.h"
 #include "tread_wear/diagnosis/user_mechanisms.h"
 #include "tread_wear/model/adhesion_wear.h"
 #include "tread_wear/model/contact_patch.h"
@@ -30,40 +32,71 @@ constexpr int kComplianceIterations = 12;
 
 std::vector<TermInfo> makeLibrary() {
   std::vector<TermInfo> lib;
-  lib.push_back({Term::kThermalWear, "thermal_wear",
-                 "abrasion resistance depends on the tread temperature: w3 -> w3 exp((T - T0)^2 / (2 sigma_T^2)) "
-                 "(Eq 25)",
-                 true, {false, true},
-                 {{"t0_c", 40.0, -50.0, 200.0, false, kNaN, "degC"},
-                  {"sigma_t_c", 30.0, 2.0, 1000.0, true, kNaN, "degC"}},
-                 1});
-  lib.push_back({Term::kThermalFriction, "thermal_friction",
-                 "rubber friction falls as the tread warms: mu_0, mu_m -> (1 - k_T (T - 23 degC)) mu_0, mu_m", true,
-                 {true, true}, {{"k_t_per_k", 0.0, -0.015, 0.015, false, 0.0, "1/K"}}, 0});
-  lib.push_back({Term::kSurfacePolishing, "surface_polishing",
+  lib.push_back(
+      {Term::kThermalWear,
+       "thermal_wear",
+       "abrasion resistance depends on the tread temperature: w3 -> w3 exp((T - T0)^2 / (2 sigma_T^2)) "
+       "(Eq 25)",
+       true,
+       {false, true},
+       {{"t0_c", 40.0, -50.0, 200.0, false, kNaN, "degC"}, {"sigma_t_c", 30.0, 2.0, 1000.0, true, kNaN, "degC"}},
+       1});
+  lib.push_back({Term::kThermalFriction,
+                 "thermal_friction",
+                 "rubber friction falls as the tread warms: mu_0, mu_m -> (1 - k_T (T - 23 degC)) mu_0, mu_m",
+                 true,
+                 {true, true},
+                 {{"k_t_per_k", 0.0, -0.015, 0.015, false, 0.0, "1/K"}},
+                 0});
+  lib.push_back({Term::kSurfacePolishing,
+                 "surface_polishing",
                  "the track gets polished: abrasiveness decays as exp(-r_p L) with the sliding distance L on the "
                  "current surface, reset when the surface is renewed (each cycle)",
-                 true, {false, true}, {{"polishing_rate_per_km", 0.2, 0.0, 10.0, false, 0.0, "1/km"}}, 0});
-  lib.push_back({Term::kLateralCompliance, "lateral_compliance",
+                 true,
+                 {false, true},
+                 {{"polishing_rate_per_km", 0.2, 0.0, 10.0, false, 0.0, "1/km"}},
+                 0});
+  lib.push_back({Term::kLateralCompliance,
+                 "lateral_compliance",
                  "the wheel or carcass bends under the side force, lowering the effective slip angle: "
                  "|alpha_eff| = |alpha| - c_lat |Fy|",
-                 true, {true, true}, {{"compliance_rad_per_n", 1e-4, 0.0, 3e-3, false, 0.0, "rad/N"}}, 0});
-  lib.push_back({Term::kPressureFriction, "pressure_friction",
+                 true,
+                 {true, true},
+                 {{"compliance_rad_per_n", 1e-4, 0.0, 3e-3, false, 0.0, "rad/N"}},
+                 0});
+  lib.push_back({Term::kPressureFriction,
+                 "pressure_friction",
                  "friction falls with contact pressure more (or less) than the file says: the sat(p) exponent q "
                  "of Eq 11 is free",
-                 true, {true, true}, {{"q", 0.14, 0.0, 1.0, false, 0.14, "-"}}, 0});
-  lib.push_back({Term::kLoadFluctuation, "load_fluctuation",
+                 true,
+                 {true, true},
+                 {{"q", 0.14, 0.0, 1.0, false, 0.14, "-"}},
+                 0});
+  lib.push_back({Term::kLoadFluctuation,
+                 "load_fluctuation",
                  "the vertical load fluctuates during a run: forces and wear are the Eq 23 average over "
                  "N(Fz, (s_load load_std)^2) instead of the value at the mean load",
-                 true, {true, true}, {{"load_std_scale", 1.0, 0.0, 6.0, false, 0.0, "-"}}, 0});
-  lib.push_back({Term::kTurnSlipOrientation, "turn_slip_orientation",
+                 true,
+                 {true, true},
+                 {{"load_std_scale", 1.0, 0.0, 6.0, false, 0.0, "-"}},
+                 0});
+  lib.push_back({Term::kTurnSlipOrientation,
+                 "turn_slip_orientation",
                  "the slip angle is oriented the other way against the track curve (turn slip adds to sideslip "
                  "instead of opposing it)",
-                 true, {true, true}, {}, -1});
-  lib.push_back({Term::kSensorGain, "sensor_gain",
+                 true,
+                 {true, true},
+                 {},
+                 -1});
+  lib.push_back({Term::kSensorGain,
+                 "sensor_gain",
                  "not physics: the side-force transducer reads g times the true force (calibration gain error)",
-                 false, {true, false}, {{"side_force_gain", 1.0, 0.5, 1.5, false, 1.0, "-"}}, 0});
-  lib.push_back({Term::kSensorOffset, "sensor_offset",
+                 false,
+                 {true, false},
+                 {{"side_force_gain", 1.0, 0.5, 1.5, false, 1.0, "-"}},
+                 0});
+  lib.push_back({Term::kSensorOffset,
+                 "sensor_offset",
                  "not physics: the side-force transducer reads the true force plus a constant zero offset o [N]",
                  false, {true, false}, {{"side_force_offset_n", 0.0, -30.0, 30.0, false, 0.0, "N"}}, 0});
   lib.push_back({Term::kContactTimeWear,
@@ -188,6 +221,13 @@ bool termApplicable(Term term, const DiagnosisData& data, std::string* why_not) 
   }
 }
 
+/// The coarse cells at a node of the friction factor (ExtendedModelOptions::interpolate_mu_scale): each cell is
+/// evaluated when an interpolation first needs it there, and kept for the whole diagnosis.
+struct DriveNodeColumn {
+  std::vector<ExtendedModel::RawResult> result;  ///< per coarse cell
+  std::vector<char> done;                        ///< whether result[c] has been evaluated
+};
+
 /// The drive segments' cells at the two resolutions (file comment of extensions.h) and their evaluations at the
 /// base brush parameters, per (preset, orientation).
 struct DriveCells {
@@ -203,6 +243,11 @@ struct DriveCells {
   std::map<std::vector<double>, std::vector<ExtendedModel::RawResult>> fine_base, coarse_base;
   /// adhesion_wear's shear work E_a [J/m] per fine and coarse cell at the base brush parameters, per orientation.
   std::map<int, std::vector<double>> fine_adhesion, coarse_adhesion;
+  /// Brush results of the steady runs and the coarse cells per (preset key, brush parameters), shared by every
+  /// model of the data (ExtendedModel::rawResults); guarded with the stores above by raw_cache_lock.
+  std::map<std::vector<double>, std::vector<ExtendedModel::RawResult>> raw_cache;
+  std::map<std::vector<double>, DriveNodeColumn> node_cache;  ///< by preset key and node index
+  std::mutex raw_cache_lock;
 };
 
 namespace {
@@ -287,8 +332,9 @@ const std::vector<double>& cellAdhesionWork(const TireParams& base, TurnSlipOrie
 
 /// Steady runs with this key share one brush evaluation (repeats of a condition).
 std::array<double, 6> steadyKey(const DiagnosisRun& r) {
-  return {r.op.speed_mps, r.op.slip_angle_rad, r.op.slip_ratio, r.op.path_curvature_per_m, r.op.load_n,
-          std::isfinite(r.load_std_n) ? r.load_std_n : 0.0};
+  return {r.op.speed_mps,  r.op.slip_angle_rad,
+          r.op.slip_ratio, r.op.path_curvature_per_m,
+          r.op.load_n,     std::isfinite(r.load_std_n) ? r.load_std_n : 0.0};
 }
 
 }  // namespace
@@ -309,15 +355,17 @@ ExtendedModel::ExtendedModel(const TireParams& base, const ExtendedModelOptions&
   }
   TurnSlipOrientation orientation = options_.orientation;
   if (has(Term::kTurnSlipOrientation))
-    orientation = orientation == TurnSlipOrientation::kLiteral ? TurnSlipOrientation::kFlipped
-                                                               : TurnSlipOrientation::kLiteral;
+    orientation =
+        orientation == TurnSlipOrientation::kLiteral ? TurnSlipOrientation::kFlipped : TurnSlipOrientation::kLiteral;
   brush_options_ = presetOptions(options_.preset, orientation);
 
   std::set<std::array<double, 6>> steady;
   bool any_drive = false;
   for (const DiagnosisRun& r : data_.runs) {
-    if (r.isDrive()) any_drive = true;
-    else steady.insert(steadyKey(r));
+    if (r.isDrive())
+      any_drive = true;
+    else
+      steady.insert(steadyKey(r));
   }
   distinct_steady_ = steady.size();
   if (any_drive) {
@@ -328,9 +376,7 @@ ExtendedModel::ExtendedModel(const TireParams& base, const ExtendedModelOptions&
 
 std::size_t ExtendedModel::fineDriveCells() const { return drive_ ? drive_->fine.size() : 0; }
 
-std::size_t ExtendedModel::evaluationPoints() const {
-  return distinct_steady_ + (drive_ ? drive_->coarse.size() : 0);
-}
+std::size_t ExtendedModel::evaluationPoints() const { return distinct_steady_ + (drive_ ? drive_->coarse.size() : 0); }
 
 int ExtendedModel::parameterOffset(Term term) const { return offsets_[static_cast<int>(term)]; }
 
@@ -424,154 +470,340 @@ ExtendedModel::RawResult ExtendedModel::evaluateRun(const BrushWearModel& model,
   const double spread = std::min(std::sqrt(3.0) * sd, 0.9 * run.op.load_n);
   const RawResult lo = at(run.op.load_n - spread), mid = at(run.op.load_n), hi = at(run.op.load_n + spread);
   auto avg = [](double l, double m, double h) { return (l + h) / 6.0 + 2.0 * m / 3.0; };
-  return RawResult{avg(lo.fy_n, mid.fy_n, hi.fy_n),
-                   avg(lo.wear_w3_kg_per_m, mid.wear_w3_kg_per_m, hi.wear_w3_kg_per_m),
+  return RawResult{avg(lo.fy_n, mid.fy_n, hi.fy_n), avg(lo.wear_w3_kg_per_m, mid.wear_w3_kg_per_m, hi.wear_w3_kg_per_m),
                    avg(lo.wear_w4_kg_per_m, mid.wear_w4_kg_per_m, hi.wear_w4_kg_per_m)};
+}
+
+ExtendedModel::BrushSetting ExtendedModel::brushSetting(const std::vector<double>& values) const {
+  auto value = [&](Term t, double otherwise) { return has(t) ? values[parameterOffset(t)] : otherwise; };
+  return BrushSetting{values[1], value(Term::kThermalFriction, 0.0), value(Term::kLateralCompliance, 0.0),
+                      value(Term::kPressureFriction, base_.friction.q), value(Term::kLoadFluctuation, 0.0)};
+}
+
+bool ExtendedModel::evaluatePoints(const BrushSetting& s, const std::vector<const DiagnosisRun*>& points,
+                                   std::vector<RawResult>* raw) const {
+  TireParams p = base_;
+  p.friction.mu_0 *= s.mu_scale;
+  p.friction.mu_m *= s.mu_scale;
+  p.friction.q = s.q;
+  p.wear.temperature_enabled = false;  // Eq 25 is applied after the brush evaluation
+  // Each point's brush model: one per tread temperature with thermal_friction, else one for all. The models are
+  // built here, serially; the evaluations below run in parallel and write only their own slots.
+  std::vector<const BrushWearModel*> model_of(points.size(), nullptr);
+  std::map<long, std::unique_ptr<BrushWearModel>> models;
+  if (s.k_t != 0.0) {
+    // One brush model per tread temperature, to kThermalFrictionResolution_c: drive cells share them (a cell's
+    // friction factor is then off by at most k_T x 0.05 degC, below 1e-4 for any plausible k_T).
+    const double t_ref = termInfo(Term::kThermalFriction).temperature_ref_c;
+    for (std::size_t j = 0; j < points.size(); ++j) {
+      if (points[j] == nullptr) continue;
+      if (!std::isfinite(points[j]->tread_temperature_c)) return false;  // the term needs the temperature
+      const long t_key = std::lround(points[j]->tread_temperature_c / kThermalFrictionResolution_c);
+      auto it = models.find(t_key);
+      if (it == models.end()) {
+        const double factor = 1.0 - s.k_t * (t_key * kThermalFrictionResolution_c - t_ref);
+        if (!(factor > 0.05)) return false;  // friction would vanish: outside the term's validity
+        TireParams pj = p;
+        pj.friction.mu_0 *= factor;
+        pj.friction.mu_m *= factor;
+        it = models.emplace(t_key, std::make_unique<BrushWearModel>(pj, brush_options_)).first;
+      }
+      model_of[j] = it->second.get();
+    }
+  } else {
+    const BrushWearModel* shared =
+        models.emplace(0, std::make_unique<BrushWearModel>(p, brush_options_)).first->second.get();
+    for (std::size_t j = 0; j < points.size(); ++j)
+      if (points[j] != nullptr) model_of[j] = shared;
+  }
+  // Repeats of a condition under one model share one evaluation: the first of them computes it.
+  std::vector<std::size_t> first_of(points.size());
+  std::vector<std::size_t> unique;
+  std::map<std::pair<const BrushWearModel*, std::array<double, 6>>, std::size_t> seen;
+  for (std::size_t j = 0; j < points.size(); ++j) {
+    if (points[j] == nullptr) continue;
+    const auto it = seen.emplace(std::make_pair(model_of[j], steadyKey(*points[j])), j).first;
+    first_of[j] = it->second;
+    if (it->second == j) unique.push_back(j);
+  }
+  parallelFor(unique.size(), options_.jobs, [&](std::size_t u) {
+    const std::size_t j = unique[u];
+    (*raw)[j] = evaluateRun(*model_of[j], *points[j], s.compliance, s.load_std_scale);
+  });
+  for (std::size_t j = 0; j < points.size(); ++j)
+    if (points[j] != nullptr) (*raw)[j] = (*raw)[first_of[j]];
+  cellsEvaluated() += static_cast<long>(unique.size());
+  return true;
+}
+
+double ExtendedModel::w3Factor(const std::vector<double>& values, const DiagnosisRun& run) const {
+  double f = values[0];
+  if (has(Term::kSurfacePolishing))
+    f *= std::exp(-values[parameterOffset(Term::kSurfacePolishing)] * run.cumulative_sliding_m / 1000.0);
+  return f;
+}
+
+double ExtendedModel::thermalW3(const std::vector<double>& values, double temperature_c) const {
+  if (has(Term::kThermalWear)) {
+    const double d = temperature_c - values[parameterOffset(Term::kThermalWear)];
+    const double s = values[parameterOffset(Term::kThermalWear) + 1];
+    return std::exp(d * d / (2.0 * s * s));
+  }
+  return base_.wear.temperature_enabled ? base_.wear.temperatureFactor(temperature_c) : 1.0;
+}
+
+std::size_t ExtendedModel::coarseDriveCells() const { return drive_ ? drive_->coarse.size() : 0; }
+
+bool ExtendedModel::coarseCellContributions(const std::vector<double>& values, const std::vector<int>& cells,
+                                            std::vector<std::vector<CellContribution>>* out) const {
+  if (!options_.coarse_drive_cells || !drive_)
+    throw std::logic_error("coarseCellContributions needs drive segments and coarse_drive_cells");
+  if (static_cast<int>(values.size()) != num_parameters_) return false;
+  std::vector<const DiagnosisRun*> points;
+  for (int c : cells) points.push_back(&drive_->coarse.at(static_cast<std::size_t>(c)));
+  std::vector<RawResult> raw(points.size());
+  try {
+    if (!evaluatePoints(brushSetting(values), points, &raw)) return false;
+  } catch (const std::exception&) {
+    return false;
+  }
+  std::map<int, std::size_t> slot;  // coarse cell -> position in `cells`
+  for (std::size_t k = 0; k < cells.size(); ++k) slot.emplace(cells[k], k);
+  out->assign(cells.size(), {});
+  const double gain = has(Term::kSensorGain) ? values[parameterOffset(Term::kSensorGain)] : 1.0;
+  for (std::size_t i = 0; i < data_.runs.size(); ++i) {
+    const DiagnosisRun& r = data_.runs[i];
+    if (!r.isDrive()) continue;
+    const double w3_factor = w3Factor(values, r);
+    for (const DriveCells::Share& s : drive_->coarse_shares[i]) {
+      const auto found = slot.find(s.cell);
+      if (found == slot.end()) continue;
+      const RawResult& c = raw[found->second];
+      const double temperature_c = drive_->coarse[static_cast<std::size_t>(s.cell)].tread_temperature_c;
+      (*out)[found->second].push_back(
+          {static_cast<int>(i), gain * c.fy_n * s.time_s / r.drive_time_s,
+           (w3_factor * thermalW3(values, temperature_c) * c.wear_w3_kg_per_m + c.wear_w4_kg_per_m) * s.distance_m /
+               r.drive_distance_m});
+    }
+  }
+  return true;
+}
+
+const std::vector<ExtendedModel::RawResult>* ExtendedModel::rawResults(const std::vector<double>& values) const {
+  const BrushSetting s = brushSetting(values);
+  std::vector<double> key = {s.mu_scale, s.k_t, s.compliance, s.q, s.load_std_scale};
+  // With drive segments the cache lives with the data's cells, so that every model of a diagnosis (each fit, each
+  // fold, each check) shares it: a cell is evaluated once per preset, orientation and brush parameters.
+  std::map<std::vector<double>, std::vector<RawResult>>& cache = drive_ ? drive_->raw_cache : cache_;
+  std::unique_lock<std::mutex> lock;
+  if (drive_) {
+    lock = std::unique_lock<std::mutex>(drive_->raw_cache_lock);
+    const std::vector<double> prefix = presetKey();
+    key.insert(key.begin(), prefix.begin(), prefix.end());
+  }
+  auto found = cache.find(key);
+  if (found != cache.end()) return &found->second;
+  if (interpolates(s)) {
+    lock = std::unique_lock<std::mutex>();  // the nodes take the lock themselves
+    bool ok = true;
+    std::vector<RawResult> raw = interpolatedResults(s, &ok);
+    if (!ok) return nullptr;
+    lock = std::unique_lock<std::mutex>(drive_->raw_cache_lock);
+    if (cache.size() >= kCacheEntries) cache.clear();
+    return &cache.emplace(key, std::move(raw)).first->second;
+  }
+  const std::vector<const DiagnosisRun*> points = brushPoints(true, true);
+  std::vector<RawResult> raw(points.size());
+  try {
+    if (!evaluatePoints(s, points, &raw)) return nullptr;
+  } catch (const std::exception&) {
+    return nullptr;
+  }
+  brush_evaluations_ += static_cast<long>(evaluationPoints());
+  if (cache.size() >= kCacheEntries) cache.clear();
+  return &cache.emplace(key, std::move(raw)).first->second;
+}
+
+std::vector<const DiagnosisRun*> ExtendedModel::brushPoints(bool steady, bool coarse) const {
+  const std::size_t n = data_.runs.size(), n_coarse = drive_ ? drive_->coarse.size() : 0;
+  std::vector<const DiagnosisRun*> points(n + n_coarse, nullptr);
+  for (std::size_t i = 0; steady && i < n; ++i)
+    if (!data_.runs[i].isDrive()) points[i] = &data_.runs[i];
+  for (std::size_t c = 0; coarse && c < n_coarse; ++c) points[n + c] = &drive_->coarse[c];
+  return points;
+}
+
+bool ExtendedModel::interpolates(const BrushSetting& s) const {
+  return drive_ && options_.interpolate_mu_scale && s.compliance == 0.0 && s.q == base_.friction.q &&
+         s.load_std_scale == 0.0;
+}
+
+std::vector<ExtendedModel::RawResult> ExtendedModel::interpolatedResults(const BrushSetting& s, bool* ok) const {
+  const std::size_t n = data_.runs.size(), n_coarse = drive_->coarse.size();
+  std::vector<RawResult> raw(n + n_coarse);
+  *ok = true;
+  try {
+    *ok = evaluatePoints(s, brushPoints(true, false), &raw);  // the steady runs as they are
+  } catch (const std::exception&) {
+    *ok = false;
+  }
+  // Each cell's place among the nodes: its friction factor (mu_scale, times thermal_friction's factor at the cell's
+  // temperature) in ln, over the spacing.
+  std::vector<double> x(n_coarse);
+  const double t_ref = termInfo(Term::kThermalFriction).temperature_ref_c;
+  for (std::size_t c = 0; *ok && c < n_coarse; ++c) {
+    double factor = s.mu_scale;
+    if (s.k_t != 0.0) {
+      const double thermal = 1.0 - s.k_t * (drive_->coarse[c].tread_temperature_c - t_ref);
+      if (!(thermal > 0.05)) *ok = false;  // friction would vanish (or no temperature): outside the term's validity
+      factor *= thermal;
+    }
+    x[c] = std::log(factor) / kMuScaleNodeSpacing;
+  }
+  if (!*ok) return raw;
+  std::map<long, std::vector<int>> cells_of_node;
+  for (std::size_t c = 0; c < n_coarse; ++c) {
+    const long j = static_cast<long>(std::floor(x[c]));
+    for (long node = j - 1; node <= j + 2; ++node) cells_of_node[node].push_back(static_cast<int>(c));
+  }
+  std::map<long, const DriveNodeColumn*> columns;
+  for (const auto& [node, cells] : cells_of_node) {
+    columns[node] = nodeColumn(node, cells);
+    if (columns[node] == nullptr) {
+      *ok = false;
+      return raw;
+    }
+  }
+  // Catmull-Rom between the nodes j and j + 1 around x, with the nodes j - 1 and j + 2 for the slopes (C1 in
+  // the friction factor, exact at the nodes: mu_scale 1 is node 0).
+  for (std::size_t c = 0; c < n_coarse; ++c) {
+    const double j = std::floor(x[c]), t = x[c] - j;
+    const double weight[4] = {0.5 * (-t * t * t + 2 * t * t - t), 0.5 * (3 * t * t * t - 5 * t * t + 2),
+                              0.5 * (-3 * t * t * t + 4 * t * t + t), 0.5 * (t * t * t - t * t)};
+    RawResult& r = raw[n + c];
+    r = RawResult{0.0, 0.0, 0.0};
+    for (int k = 0; k < 4; ++k) {
+      const RawResult& at = columns.at(static_cast<long>(j) - 1 + k)->result[c];
+      r.fy_n += weight[k] * at.fy_n;
+      r.wear_w3_kg_per_m += weight[k] * at.wear_w3_kg_per_m;
+      r.wear_w4_kg_per_m += weight[k] * at.wear_w4_kg_per_m;
+    }
+  }
+  return raw;
+}
+
+const DriveNodeColumn* ExtendedModel::nodeColumn(long node, const std::vector<int>& cells) const {
+  std::vector<double> key = presetKey();
+  key.push_back(static_cast<double>(node));
+  std::vector<int> missing;
+  DriveNodeColumn* column = nullptr;
+  {
+    std::lock_guard<std::mutex> lock(drive_->raw_cache_lock);
+    column = &drive_->node_cache[key];
+    column->result.resize(drive_->coarse.size());
+    column->done.resize(drive_->coarse.size(), 0);
+    for (int c : cells)
+      if (!column->done[static_cast<std::size_t>(c)]) missing.push_back(c);
+  }
+  if (missing.empty()) return column;
+  std::vector<const DiagnosisRun*> points;
+  for (int c : missing) points.push_back(&drive_->coarse[static_cast<std::size_t>(c)]);
+  std::vector<RawResult> raw(points.size());
+  const BrushSetting at_node{std::exp(node * kMuScaleNodeSpacing), 0.0, 0.0, base_.friction.q, 0.0};
+  try {
+    if (!evaluatePoints(at_node, points, &raw)) return nullptr;
+  } catch (const std::exception&) {
+    return nullptr;
+  }
+  brush_evaluations_ += static_cast<long>(missing.size());
+  std::lock_guard<std::mutex> lock(drive_->raw_cache_lock);
+  for (std::size_t k = 0; k < missing.size(); ++k) {
+    column->result[static_cast<std::size_t>(missing[k])] = raw[k];
+    column->done[static_cast<std::size_t>(missing[k])] = 1;
+  }
+  return column;
+}
+
+std::vector<double> ExtendedModel::presetKey() const {
+  return {static_cast<double>(options_.preset),
+          options_.interpolate_mu_scale ? 1.0 : 0.0,
+          static_cast<double>(brush_options_.orientation),
+          base_.friction.mu_0,
+          base_.friction.mu_m,
+          base_.friction.q,
+          base_.wear.w3_kg_per_s_m2,
+          base_.wear.w4_kg_per_s_m2,
+          base_.footprint.b_m};
+}
+
+bool ExtendedModel::fineDriveResults(const std::vector<double>& values, const std::vector<RawResult>& raw,
+                                     std::vector<RawResult>* fine) const {
+  const int n = static_cast<int>(data_.runs.size());
+  const std::vector<double> preset_key = presetKey();
+  auto base_results =
+      [&](const std::vector<DiagnosisRun>& cells,
+          std::map<std::vector<double>, std::vector<RawResult>>* store) -> const std::vector<RawResult>& {
+    std::lock_guard<std::mutex> lock(drive_->raw_cache_lock);
+    auto it = store->find(preset_key);
+    if (it == store->end()) {
+      std::vector<RawResult> r(cells.size());
+      TireParams b = base_;
+      b.wear.temperature_enabled = false;
+      const BrushWearModel model(b, brush_options_);
+      parallelFor(cells.size(), options_.jobs, [&](std::size_t c) { r[c] = evaluateRun(model, cells[c], 0.0, 0.0); });
+      cellsEvaluated() += static_cast<long>(cells.size());
+      it = store->emplace(preset_key, std::move(r)).first;
+    }
+    return it->second;
+  };
+  try {
+    *fine = base_results(drive_->fine, &drive_->fine_base);
+    const BrushSetting s = brushSetting(values);
+    const bool at_base = s.mu_scale == 1.0 && s.k_t == 0.0 && s.compliance == 0.0 && s.q == base_.friction.q;
+    if (at_base) return true;
+    const std::vector<RawResult>& coarse_base = base_results(drive_->coarse, &drive_->coarse_base);
+    for (std::size_t c = 0; c < fine->size(); ++c) {
+      const int m = drive_->coarse_of_fine[c];
+      const RawResult& now = raw[n + m];
+      const RawResult& then = coarse_base[m];
+      RawResult& f = (*fine)[c];
+      f.fy_n += now.fy_n - then.fy_n;
+      f.wear_w3_kg_per_m = then.wear_w3_kg_per_m > 0.0
+                               ? f.wear_w3_kg_per_m * now.wear_w3_kg_per_m / then.wear_w3_kg_per_m
+                               : now.wear_w3_kg_per_m;
+    }
+  } catch (const std::exception&) {
+    return false;
+  }
+  return true;
 }
 
 bool ExtendedModel::predict(const std::vector<double>& values, Prediction* out) const {
   if (static_cast<int>(values.size()) != num_parameters_) return false;
   for (double v : values)
     if (!std::isfinite(v)) return false;
-  const double w3_scale = values[0], mu_scale = values[1];
-  auto value = [&](Term t, int k) { return values[parameterOffset(t) + k]; };
-  const double k_t = has(Term::kThermalFriction) ? value(Term::kThermalFriction, 0) : 0.0;
-  const double compliance = has(Term::kLateralCompliance) ? value(Term::kLateralCompliance, 0) : 0.0;
-  const double q = has(Term::kPressureFriction) ? value(Term::kPressureFriction, 0) : base_.friction.q;
-  const double load_std_scale = has(Term::kLoadFluctuation) ? value(Term::kLoadFluctuation, 0) : 0.0;
-  const std::vector<double> key = {mu_scale, k_t, compliance, q, load_std_scale};
-  const bool at_base = mu_scale == 1.0 && k_t == 0.0 && compliance == 0.0 && q == base_.friction.q;
+  const std::vector<RawResult>* found = rawResults(values);
+  if (found == nullptr) return false;
+  const std::vector<RawResult>& raw = *found;
   const int n = static_cast<int>(data_.runs.size());
-  const std::vector<DiagnosisRun> no_cells;
-  const std::vector<DiagnosisRun>& coarse = drive_ ? drive_->coarse : no_cells;
-  const int n_coarse = static_cast<int>(coarse.size());
-
-  // The brush model at these values for the runs in `points` (run j of `points`, or steady run j of the data).
-  TireParams p = base_;
-  p.friction.mu_0 *= mu_scale;
-  p.friction.mu_m *= mu_scale;
-  p.friction.q = q;
-  p.wear.temperature_enabled = false;  // Eq 25 is applied below, after the brush evaluation
-  auto evaluate = [&](const std::vector<const DiagnosisRun*>& points, std::vector<RawResult>* raw) {
-    if (k_t != 0.0) {
-      // One brush model per tread temperature, to kThermalFrictionResolution_c: drive cells share them (a cell's
-      // friction factor is then off by at most k_T x 0.05 degC, below 1e-4 for any plausible k_T).
-      const double t_ref = termInfo(Term::kThermalFriction).temperature_ref_c;
-      std::map<long, std::unique_ptr<BrushWearModel>> models;
-      for (std::size_t j = 0; j < points.size(); ++j) {
-        if (points[j] == nullptr) continue;
-        if (!std::isfinite(points[j]->tread_temperature_c)) return false;  // the term needs the temperature
-        const long t_key = std::lround(points[j]->tread_temperature_c / kThermalFrictionResolution_c);
-        auto it = models.find(t_key);
-        if (it == models.end()) {
-          const double factor = 1.0 - k_t * (t_key * kThermalFrictionResolution_c - t_ref);
-          if (!(factor > 0.05)) return false;  // friction would vanish: outside the term's validity
-          TireParams pj = p;
-          pj.friction.mu_0 *= factor;
-          pj.friction.mu_m *= factor;
-          it = models.emplace(t_key, std::make_unique<BrushWearModel>(pj, brush_options_)).first;
-        }
-        (*raw)[j] = evaluateRun(*it->second, *points[j], compliance, load_std_scale);
-      }
-      return true;
-    }
-    const BrushWearModel model(p, brush_options_);
-    // Repeats of a condition share one evaluation.
-    std::map<std::array<double, 6>, RawResult> seen;
-    for (std::size_t j = 0; j < points.size(); ++j) {
-      if (points[j] == nullptr) continue;
-      auto it = seen.find(steadyKey(*points[j]));
-      if (it == seen.end())
-        it = seen.emplace(steadyKey(*points[j]), evaluateRun(model, *points[j], compliance, load_std_scale)).first;
-      (*raw)[j] = it->second;
-    }
-    return true;
-  };
-
-  // Raw brush results of the steady runs (0..n-1; unused for drive segments) and the coarse cells (n..).
-  auto found = cache_.find(key);
-  if (found == cache_.end()) {
-    std::vector<const DiagnosisRun*> points(n + n_coarse, nullptr);
-    for (int i = 0; i < n; ++i)
-      if (!data_.runs[i].isDrive()) points[i] = &data_.runs[i];
-    for (int c = 0; c < n_coarse; ++c) points[n + c] = &coarse[c];
-    std::vector<RawResult> raw(points.size());
-    try {
-      if (!evaluate(points, &raw)) return false;
-    } catch (const std::exception&) {
-      return false;
-    }
-    brush_evaluations_ += static_cast<long>(evaluationPoints());
-    if (cache_.size() >= kCacheEntries) cache_.clear();
-    found = cache_.emplace(key, std::move(raw)).first;
-  }
-  const std::vector<RawResult>& raw = found->second;
 
   // The drive cells' results: the coarse ones as they are, or the fine ones at the base values carried to these
   // values by the coarse ones' change (extensions.h).
   std::vector<RawResult> fine;
-  if (drive_ && !options_.coarse_drive_cells) {
-    const std::vector<double> preset_key = {static_cast<double>(options_.preset),
-                                            static_cast<double>(brush_options_.orientation),
-                                            base_.friction.mu_0,
-                                            base_.friction.mu_m,
-                                            base_.friction.q,
-                                            base_.wear.w3_kg_per_s_m2,
-                                            base_.wear.w4_kg_per_s_m2,
-                                            base_.footprint.b_m};
-    auto base_results = [&](const std::vector<DiagnosisRun>& cells,
-                            std::map<std::vector<double>, std::vector<RawResult>>* store) -> const std::vector<RawResult>& {
-      auto it = store->find(preset_key);
-      if (it == store->end()) {
-        std::vector<RawResult> r(cells.size());
-        const BrushWearModel model([&] {
-          TireParams b = base_;
-          b.wear.temperature_enabled = false;
-          return b;
-        }(), brush_options_);
-        for (std::size_t c = 0; c < cells.size(); ++c) r[c] = evaluateRun(model, cells[c], 0.0, 0.0);
-        it = store->emplace(preset_key, std::move(r)).first;
-      }
-      return it->second;
-    };
-    try {
-      fine = base_results(drive_->fine, &drive_->fine_base);
-      if (!at_base) {
-        const std::vector<RawResult>& coarse_base = base_results(coarse, &drive_->coarse_base);
-        for (std::size_t c = 0; c < fine.size(); ++c) {
-          const int m = drive_->coarse_of_fine[c];
-          const RawResult& now = raw[n + m];
-          const RawResult& then = coarse_base[m];
-          fine[c].fy_n += now.fy_n - then.fy_n;
-          fine[c].wear_w3_kg_per_m = then.wear_w3_kg_per_m > 0.0
-                                         ? fine[c].wear_w3_kg_per_m * now.wear_w3_kg_per_m / then.wear_w3_kg_per_m
-                                         : now.wear_w3_kg_per_m;
-        }
-      }
-    } catch (const std::exception&) {
-      return false;
-    }
-  }
+  if (drive_ && !options_.coarse_drive_cells && !fineDriveResults(values, raw, &fine)) return false;
   const bool use_fine = !fine.empty();
-  const std::vector<DiagnosisRun>& cells = use_fine ? drive_->fine : coarse;
+  const std::vector<DiagnosisRun>& cells = use_fine ? drive_->fine : drive_ ? drive_->coarse : data_.runs;
   auto cell_result = [&](int c) -> const RawResult& { return use_fine ? fine[c] : raw[n + c]; };
-  // The w3 factor of Eq 25 (or the thermal_wear term) at a tread temperature.
-  auto thermal_w3 = [&](double temperature_c) {
-    if (has(Term::kThermalWear)) {
-      const double d = temperature_c - value(Term::kThermalWear, 0);
-      const double s = value(Term::kThermalWear, 1);
-      return std::exp(d * d / (2.0 * s * s));
-    }
-    return base_.wear.temperature_enabled ? base_.wear.temperatureFactor(temperature_c) : 1.0;
-  };
   // The road wear terms (contact_time_wear, adhesion_wear): additive per distance, no brush re-evaluation.
   const double w4_extra = has(Term::kContactTimeWear) ? value(Term::kContactTimeWear, 0) : 0.0;
   const double k_a = has(Term::kAdhesionWear) ? value(Term::kAdhesionWear, 0) : 0.0;
-  const std::vector<double>* cell_work =
-      has(Term::kAdhesionWear) && drive_
-          ? &cellAdhesionWork(base_, brush_options_.orientation, cells,
-                              use_fine ? &drive_->fine_adhesion : &drive_->coarse_adhesion)
-          : nullptr;
+  const std::vector<double>* cell_work = nullptr;
+  if (has(Term::kAdhesionWear) && drive_) {
+    // Models of one data set may predict on several threads (--jobs); std::map keeps the reference valid.
+    const std::lock_guard<std::mutex> lock(drive_->raw_cache_lock);
+    cell_work = &cellAdhesionWork(base_, brush_options_.orientation, cells,
+                                  use_fine ? &drive_->fine_adhesion : &drive_->coarse_adhesion);
+  }
   auto road_terms = [&](const DiagnosisRun& point, double work_j_per_m) {
     return w4_extra * contactAreaPerSpeed(base_.footprint, point.op) + k_a * work_j_per_m;
   };
@@ -580,34 +812,37 @@ bool ExtendedModel::predict(const std::vector<double>& values, Prediction* out) 
   for (int i = 0; i < n; ++i) {
     const DiagnosisRun& r = data_.runs[i];
     double fy = raw[i].fy_n;
-    double w3_factor = w3_scale;
-    if (has(Term::kSurfacePolishing))
-      w3_factor *= std::exp(-value(Term::kSurfacePolishing, 0) * r.cumulative_sliding_m / 1000.0);
+    const double w3_factor = w3Factor(values, r);
     double wear = 0.0;
     if (r.isDrive()) {
       double fy_sum = 0.0, wear_sum = 0.0;
       for (const DriveCells::Share& s : use_fine ? drive_->fine_shares[i] : drive_->coarse_shares[i]) {
         const RawResult& c = cell_result(s.cell);
         fy_sum += c.fy_n * s.time_s;
-        wear_sum += (w3_factor * thermal_w3(cells[s.cell].tread_temperature_c) * c.wear_w3_kg_per_m +
+        wear_sum += (w3_factor * thermalW3(values, cells[s.cell].tread_temperature_c) * c.wear_w3_kg_per_m +
                      c.wear_w4_kg_per_m + road_terms(cells[s.cell], cell_work ? (*cell_work)[s.cell] : 0.0)) *
                     s.distance_m;
       }
       fy = fy_sum / r.drive_time_s;
       wear = wear_sum / r.drive_distance_m;
     } else {
-      wear = w3_factor * thermal_w3(r.tread_temperature_c) * raw[i].wear_w3_kg_per_m + raw[i].wear_w4_kg_per_m;
+      wear = w3_factor * thermalW3(values, r.tread_temperature_c) * raw[i].wear_w3_kg_per_m + raw[i].wear_w4_kg_per_m;
       if (w4_extra != 0.0 || k_a != 0.0)
         wear += road_terms(r, k_a != 0.0 ? adhesionWork(base_, brush_options_.orientation, {&r}).front() : 0.0);
     }
-    if (has(Term::kSensorGain)) fy *= value(Term::kSensorGain, 0);
-    if (has(Term::kSensorOffset)) fy += value(Term::kSensorOffset, 0);
+    if (has(Term::kSensorGain)) fy *= values[parameterOffset(Term::kSensorGain)];
+    if (has(Term::kSensorOffset)) fy += values[parameterOffset(Term::kSensorOffset)];
     for (const auto& [offset, evaluator] : user_terms_) evaluator->apply(i, &values[offset], &fy, &wear);
     out->side_force_n[i] = fy;
     out->wear_kg_per_m[i] = wear;
     if (!std::isfinite(out->side_force_n[i]) || !std::isfinite(out->wear_kg_per_m[i])) return false;
   }
   return true;
+}
+
+std::atomic<long>& cellsEvaluated() {
+  static std::atomic<long> count{0};
+  return count;
 }
 
 }  // namespace diagnosis

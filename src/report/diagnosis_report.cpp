@@ -2,9 +2,8 @@
 
 #include <cmath>
 #include <iomanip>
-#include <sstream>
-
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "tread_wear/diagnosis/user_mechanisms.h"
 
@@ -14,13 +13,11 @@ namespace {
 
 nlohmann::json num(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
 
-nlohmann::json perOutput(const double* v) {
-  return {{"side_force", num(v[0])}, {"wear", num(v[1])}};
-}
+nlohmann::json perOutput(const double* v) { return {{"side_force", num(v[0])}, {"wear", num(v[1])}}; }
 
 nlohmann::json effectJson(const LocatedEffect& e) {
-  nlohmann::json j{{"output", outputName(e.output)}, {"covariate", e.covariate}, {"kind", e.kind},
-                   {"p_value", e.p_value}, {"p_adjusted", e.p_adjusted}, {"significant", e.significant}};
+  nlohmann::json j{{"output", outputName(e.output)}, {"covariate", e.covariate},   {"kind", e.kind},
+                   {"p_value", e.p_value},           {"p_adjusted", e.p_adjusted}, {"significant", e.significant}};
   if (e.categorical) {
     j["test"] = "group differences (permutation)";
     j["eta_squared"] = e.eta_squared;
@@ -111,6 +108,18 @@ nlohmann::json noiseModelsJson(const DiagnosisResult& r) {
   return j;
 }
 
+/// "Time per step": wall time and brush evaluations of each step of the diagnosis ("" without timings).
+std::string timingsMarkdown(const DiagnosisResult& r) {
+  if (r.timings.empty()) return "";
+  std::ostringstream m;
+  m << "\n## Time per step\n\n| step | preset | wall time [s] | brush evaluations |\n|---|---|---|---|\n";
+  for (const StepTiming& t : r.timings)
+    m << "| " << t.step << " | " << presetName(t.preset) << " | " << g(t.seconds, 3) << " | " << t.cells_evaluated
+      << " |\n";
+  m << "| **total** | | **" << g(r.seconds, 3) << "** | |\n";
+  return m.str();
+}
+
 /// The solver-error checks and the decision on the preset (numerics_check.h).
 nlohmann::json numericsJson(const DiagnosisResult& r) {
   nlohmann::json checks = nlohmann::json::array();
@@ -131,6 +140,12 @@ nlohmann::json numericsJson(const DiagnosisResult& r) {
                       {"noncentrality", c.noncentrality},
                       {"limit", c.limit},
                       {"passed", c.passed},
+                      {"drive_cells", c.cells},
+                      {"cells_compared", c.cells_compared},
+                      {"sampled", c.sampled},
+                      {"confidence", c.confidence},
+                      {"noncentrality_interval", {c.noncentrality_low, c.noncentrality_high}},
+                      {"seconds", c.seconds},
                       {"outputs", outputs}});
   }
   return {{"preset", presetName(r.preset)},
@@ -154,8 +169,11 @@ nlohmann::json diagnosisDocument(const DiagnosisResult& r, const DiagnosisData& 
     nlohmann::json parameters = nlohmann::json::array();
     for (const TermParameterSpec& p : info.parameters)
       parameters.push_back({{"name", p.name}, {"unit", p.unit}, {"no_effect", num(p.neutral)}});
-    nlohmann::json term{{"name", info.name}, {"statement", info.statement}, {"physical", info.physical},
-                        {"outputs", outputs}, {"parameters", parameters}};
+    nlohmann::json term{{"name", info.name},
+                        {"statement", info.statement},
+                        {"physical", info.physical},
+                        {"outputs", outputs},
+                        {"parameters", parameters}};
     if (info.user) term["defined_in"] = info.user->where();
     terms.push_back(term);
   }
@@ -179,8 +197,9 @@ nlohmann::json diagnosisDocument(const DiagnosisResult& r, const DiagnosisData& 
   addEmpirical(r.empirical, &j);
   nlohmann::json params = nlohmann::json::object();
   for (const ParameterEstimate& p : r.final_model.summary.parameters)
-    params[p.name] = {{"value", p.value}, {"std_error", num(p.std_error)}, {"unit", parameterUnit(p.name)},
-                      {"lower", p.lower}, {"upper", p.upper}, {"at_bound", p.atBound()}};
+    params[p.name] = {
+        {"value", p.value}, {"std_error", num(p.std_error)}, {"unit", parameterUnit(p.name)}, {"lower", p.lower},
+        {"upper", p.upper}, {"at_bound", p.atBound()}};
   j["parameters"] = params;
   j["condition_number"] = num(r.final_model.summary.condition_number);
   j["rmser_before"] = perOutput(r.base.rmser);
@@ -196,10 +215,11 @@ nlohmann::json diagnosisDocument(const DiagnosisResult& r, const DiagnosisData& 
   j["base_parameter_shift"] = shift;
   nlohmann::json cands = nlohmann::json::array();
   for (const FittedModel& f : r.tried) {
-    nlohmann::json c{{"model", f.label}, {"extends", f.parent}, {"usable", f.usable}, {"k", f.k},
-                     {"weighted_rss", num(f.rss)}, {"aicc", num(f.aicc)}, {"bic", num(f.bic)},
-                     {"p_vs_parent", num(f.p_vs_parent)}, {"eligible", f.eligible},
-                     {"rmser", perOutput(f.rmser)}};
+    nlohmann::json c{{"model", f.label},           {"extends", f.parent},
+                     {"usable", f.usable},         {"k", f.k},
+                     {"weighted_rss", num(f.rss)}, {"aicc", num(f.aicc)},
+                     {"bic", num(f.bic)},          {"p_vs_parent", num(f.p_vs_parent)},
+                     {"eligible", f.eligible},     {"rmser", perOutput(f.rmser)}};
     if (f.cv_done) c["cv_rmser"] = perOutput(f.cv_rmser);
     if (std::isfinite(f.p_held_out)) c["p_held_out_vs_parent"] = f.p_held_out;
     nlohmann::json pv = nlohmann::json::object();
@@ -211,12 +231,19 @@ nlohmann::json diagnosisDocument(const DiagnosisResult& r, const DiagnosisData& 
   j["candidates"] = cands;
   j["noise_models"] = noiseModelsJson(r);
   j["numerics"] = numericsJson(r);
+  nlohmann::json timings = nlohmann::json::array();
+  for (const StepTiming& t : r.timings)
+    timings.push_back({{"step", t.step},
+                       {"preset", presetName(t.preset)},
+                       {"seconds", t.seconds},
+                       {"cells_evaluated", t.cells_evaluated}});
+  j["timings"] = {{"total_seconds", r.seconds}, {"steps", timings}};
   j["noise_left"] = {{"side_force_n", num(r.side_force_noise_n)}, {"wear_rsd", num(r.wear_noise_rsd)}};
   if (!r.detection_limits.empty()) {
     nlohmann::json limits = nlohmann::json::object();
     for (const DetectionLimit& l : r.detection_limits)
-      limits[l.term] = {{"parameter", l.parameter}, {"no_effect_value", num(l.neutral)}, {"below", num(l.below)},
-                        {"above", num(l.above)}, {"switch_power", num(l.switch_power)}, {"note", l.note}};
+      limits[l.term] = {{"parameter", l.parameter}, {"no_effect_value", num(l.neutral)},   {"below", num(l.below)},
+                        {"above", num(l.above)},    {"switch_power", num(l.switch_power)}, {"note", l.note}};
     j["detection_limits"] = {{"power", r.detection_power}, {"terms", limits}};
   }
   j["repeat_spread"] = perOutput(r.pure_error);
@@ -332,8 +359,8 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
     << pct(r.base.cv_rmser[0]) << " | " << pct(r.base.cv_rmser[1]) << " |\n";
   for (const FittedModel& f : r.tried)
     m << "| " << f.label << " | " << f.parent << " | " << f.k << " | " << g(f.aicc) << " | " << g(f.bic) << " | "
-      << g(f.p_vs_parent, 2) << " | " << (f.eligible ? "yes" : "no") << " | "
-      << (f.cv_done ? pct(f.cv_rmser[0]) : "") << " | " << (f.cv_done ? pct(f.cv_rmser[1]) : "") << " |\n";
+      << g(f.p_vs_parent, 2) << " | " << (f.eligible ? "yes" : "no") << " | " << (f.cv_done ? pct(f.cv_rmser[0]) : "")
+      << " | " << (f.cv_done ? pct(f.cv_rmser[1]) : "") << " |\n";
   m << "\nEach candidate is fitted with the output weights of the model it extends (relative residuals divided by "
        "that model's RMSER per output); an accepted model is refitted with its own, so the verdict's numbers differ "
        "slightly from its row here.\n";
@@ -374,8 +401,8 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
   for (const char* name : {"w3_scale", "mu_scale"})
     m << name << " " << g(fittedValue(r.base, name), 4) << " -> " << g(fittedValue(r.final_model, name), 4) << "; ";
   m << "condition number " << g(r.final_model.summary.condition_number, 3) << ".\n";
-  const bool remaining = std::any_of(r.located_after.begin(), r.located_after.end(),
-                                     [](const LocatedEffect& e) { return e.significant; });
+  const bool remaining =
+      std::any_of(r.located_after.begin(), r.located_after.end(), [](const LocatedEffect& e) { return e.significant; });
   m << "\nAfter the selected model, "
     << (remaining ? "the residual still follows:" : "no locating test is significant.");
   for (const LocatedEffect& e : r.located_after)
@@ -396,7 +423,12 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
         << "); side force " << g(c.outputs[0].rms_in_noise, 3) << " noise std RMS (" << pct(c.outputs[0].rms_relative)
         << " RMS, largest " << pct(c.outputs[0].max_relative) << "), wear " << g(c.outputs[1].rms_in_noise, 3)
         << " noise std RMS (" << pct(c.outputs[1].rms_relative) << " RMS, largest " << pct(c.outputs[1].max_relative)
-        << ")\n";
+        << ")"
+        << (c.sampled ? "; estimated from " + std::to_string(c.cells_compared) + " of " + std::to_string(c.cells) +
+                            " drive cells, lambda in " + g(c.noncentrality_low, 3) + "-" + g(c.noncentrality_high, 3) +
+                            " at " + g(100.0 * c.confidence, 3) + "% confidence"
+                      : std::string())
+        << " (" << g(c.seconds, 3) << " s)\n";
   for (int o = 0; o < kNumOutputs; ++o) {
     const NoiseSelection& s = r.noise[o];
     const NoiseModel& w = r.weights[o];
@@ -407,6 +439,7 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
   }
   m << "\nSpread of repeats " << pct(r.pure_error[0]) << " / " << pct(r.pure_error[1])
     << " (side force / wear, relative). With few runs the F test and AICc are indicative only.\n";
+  m << timingsMarkdown(r);
   return m.str();
 }
 
@@ -431,9 +464,8 @@ std::string residualsCsv(const DiagnosisResult& r, const DiagnosisData& data) {
     const DiagnosisRun& run = data.runs[i];
     c << i + 1 << ",\"" << run.condition << "\"," << cell(run.measured[0]) << "," << cell(run.measured[1]) << ","
       << cell(r.base.prediction.side_force_n[i]) << "," << cell(r.base.prediction.wear_kg_per_m[i]) << ","
-      << cell(r.final_model.prediction.side_force_n[i]) << "," << cell(r.final_model.prediction.wear_kg_per_m[i])
-      << "," << cell(res[0][0][i]) << "," << cell(res[0][1][i]) << "," << cell(res[1][0][i]) << ","
-      << cell(res[1][1][i]);
+      << cell(r.final_model.prediction.side_force_n[i]) << "," << cell(r.final_model.prediction.wear_kg_per_m[i]) << ","
+      << cell(res[0][0][i]) << "," << cell(res[0][1][i]) << "," << cell(res[1][0][i]) << "," << cell(res[1][1][i]);
     for (const Covariate& cov : data.covariates)
       c << "," << (cov.categorical ? "\"" + cov.levels[static_cast<int>(cov.values[i])] + "\"" : cell(cov.values[i]));
     if (empirical) c << "," << cell(empirical->prediction[i] / run.measured[static_cast<int>(empirical->output)] - 1.0);

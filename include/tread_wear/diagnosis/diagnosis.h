@@ -46,6 +46,7 @@
 /// nine means) they are indicative only, which the report says.
 
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <string>
@@ -62,28 +63,50 @@
 namespace tread_wear {
 namespace diagnosis {
 
+/// Where a running diagnosis is (DiagnosisOptions::progress), called on the diagnosing thread.
+struct DiagnosisProgress {
+  std::string step;               ///< e.g. "base fit", "numerics check", "selection step 1"
+  Preset preset = Preset::kFast;  ///< the preset being diagnosed at
+  long cells_evaluated = 0;       ///< brush evaluations of runs and drive cells since the diagnosis started
+  int terms_tried = 0;            ///< in the current selection step
+  int terms_in_step = 0;          ///< terms the current selection step fits (0 outside the selection)
+  double elapsed_s = 0.0;         ///< since the diagnosis started [s]
+  double step_left_s = -1.0;      ///< estimated time left in the current selection step [s]; < 0 when unknown
+};
+
+/// Wall time of one step of a diagnosis (DiagnosisResult::timings).
+struct StepTiming {
+  std::string step;               ///< "base fit", "numerics check at 'none'", "selection step 1", ...
+  Preset preset = Preset::kFast;  ///< the preset it ran at
+  double seconds = 0.0;           ///< wall time [s]
+  long cells_evaluated = 0;       ///< brush evaluations in it
+};
+
 struct DiagnosisOptions {
-  ExtendedModelOptions model;      ///< preset (the first one tried with auto_preset) and base orientation
-  bool auto_preset = true;         ///< escalate while the numerics check fails (step 0); false: keep model.preset
+  ExtendedModelOptions model;  ///< preset (the first one tried with auto_preset) and base orientation
+  bool auto_preset = true;     ///< escalate while the numerics check fails (step 0); false: keep model.preset
   Preset max_auto_preset = Preset::kFine;  ///< finest preset auto_preset may choose, >= model.preset
-  double numerics_limit = 1.0;     ///< largest lambda_num of the solver error (numerics_check.h), > 0
+  double numerics_limit = 1.0;             ///< largest lambda_num of the solver error (numerics_check.h), > 0
+  NumericsSampling numerics_sampling;      ///< drives: the check on a sample of the cells (numerics_check.h)
   /// Noise model kind of each output (side force, wear); unset = selected by AICc (step 1)
   std::optional<NoiseKind> noise_kind[kNumOutputs];
-  double alpha_locate = 0.01;      ///< family-wise error rate of the locating tests (Holm) (0, 1)
-  double alpha_select = 0.01;      ///< family-wise error rate of the term tests per step (Bonferroni), and the
-                                   ///< level of the pair step's held-out rank test (0, 1)
-  double min_aicc_drop = 2.0;      ///< AICc must drop by at least this to make a term eligible, >= 0
-  int max_terms = 2;               ///< largest combination (2 = pairs), >= 0
-  int max_cv_candidates = 3;       ///< eligible terms cross-validated per step, >= 1
-  int permutations = 9999;         ///< per locating test, >= 99
-  std::uint64_t seed = 7;          ///< permutation seed
-  std::vector<Term> candidates;    ///< terms to try (repeats count once); empty = the whole library
-  LeastSquaresOptions solver;      ///< least-squares settings
+  double alpha_locate = 0.01;    ///< family-wise error rate of the locating tests (Holm) (0, 1)
+  double alpha_select = 0.01;    ///< family-wise error rate of the term tests per step (Bonferroni), and the
+                                 ///< level of the pair step's held-out rank test (0, 1)
+  double min_aicc_drop = 2.0;    ///< AICc must drop by at least this to make a term eligible, >= 0
+  int max_terms = 2;             ///< largest combination (2 = pairs), >= 0
+  int max_cv_candidates = 3;     ///< eligible terms cross-validated per step, >= 1
+  int permutations = 9999;       ///< per locating test, >= 99
+  std::uint64_t seed = 7;        ///< permutation seed
+  std::vector<Term> candidates;  ///< terms to try (repeats count once); empty = the whole library
+  LeastSquaresOptions solver;    ///< least-squares settings
   /// Power at which the detection limits (step 6) are set, in (0, 1); 0 = not computed (they cost about as much
   /// as the selection)
   double detection_power = 0.8;
   /// Fit empirical terms (empirical.h) when the verdict is "unexplained"
   bool empirical = true;
+  /// Called at each step and after each term fitted (progress on stderr in tread_wear_diagnose); empty = none
+  std::function<void(const DiagnosisProgress&)> progress;
 
   DiagnosisOptions();
   bool validate(std::string* error) const;
@@ -93,79 +116,81 @@ struct DiagnosisOptions {
 struct LocatedEffect {
   Output output = Output::kSideForce;
   std::string covariate;
-  std::string kind;           ///< operating region, sequence, recorded, output level
+  std::string kind;  ///< operating region, sequence, recorded, output level
   bool categorical = false;
-  double rho = 0.0;           ///< numeric: Spearman rho of the relative residual over the covariate [-]
-  double slope = 0.0;         ///< numeric: OLS slope [1/unit of the covariate]
+  double rho = 0.0;    ///< numeric: Spearman rho of the relative residual over the covariate [-]
+  double slope = 0.0;  ///< numeric: OLS slope [1/unit of the covariate]
   /// numeric: slope times range; categorical: largest group difference [-] (0.05 = 5 points of error ratio)
   double effect = 0.0;
-  double eta_squared = 0.0;   ///< categorical: between-group share of variance [-]
-  double p_value = 1.0;       ///< permutation p-value
-  double p_adjusted = 1.0;    ///< Holm-adjusted
-  bool significant = false;   ///< p_adjusted < alpha_locate
+  double eta_squared = 0.0;  ///< categorical: between-group share of variance [-]
+  double p_value = 1.0;      ///< permutation p-value
+  double p_adjusted = 1.0;   ///< Holm-adjusted
+  bool significant = false;  ///< p_adjusted < alpha_locate
 };
 
 /// A fitted model (base plus terms).
 struct FittedModel {
   std::vector<Term> terms;
-  std::string label;               ///< termsLabel(terms)
+  std::string label;  ///< termsLabel(terms)
   LeastSquaresSummary summary;
   Prediction prediction;
   bool usable = false;
-  double rss = 0.0;                ///< weighted residual sum of squares
-  int n_residuals = 0;             ///< measured values fitted
-  int k = 0;                       ///< free parameters (+1 for the orientation switch)
+  double rss = 0.0;     ///< weighted residual sum of squares
+  int n_residuals = 0;  ///< measured values fitted
+  int k = 0;            ///< free parameters (+1 for the orientation switch)
   double aicc = 0.0, bic = 0.0;
-  double rmser[kNumOutputs] = {0.0, 0.0};     ///< in sample [-]; NaN when the output is not measured
+  double rmser[kNumOutputs] = {0.0, 0.0};  ///< in sample [-]; NaN when the output is not measured
   bool cv_done = false;
   double cv_rmser[kNumOutputs] = {0.0, 0.0};  ///< held out [-]
-  double cv_score = 0.0;           ///< mean weighted held-out squared residual
+  double cv_score = 0.0;                      ///< mean weighted held-out squared residual
   /// per run: weighted held-out squared residuals summed over its outputs; NaN if none
   std::vector<double> cv_run_loss;
-  double p_vs_parent = 1.0;        ///< partial F test against the model it extends
+  double p_vs_parent = 1.0;  ///< partial F test against the model it extends
   /// One-sided Wilcoxon signed-rank p of its per-run held-out losses against the parent's; computed for the best
   /// candidate of a step that extends an explanation (NaN otherwise)
   double p_held_out = std::numeric_limits<double>::quiet_NaN();
-  std::string parent;              ///< label of that model
+  std::string parent;  ///< label of that model
   bool eligible = false;
 };
 
 /// An eligible candidate that the recordings support about as well as the model accepted at its step.
 struct CloseAlternative {
-  std::string model;       ///< label of the candidate, e.g. "sensor_offset"
-  std::string instead_of;  ///< label of the model accepted at that step
-  double delta_aicc = 0.0; ///< candidate's AICc minus the accepted model's, < min_aicc_drop [-] (negative: a
-                           ///< lower AICc, accepted model chosen by its held-out error)
+  std::string model;        ///< label of the candidate, e.g. "sensor_offset"
+  std::string instead_of;   ///< label of the model accepted at that step
+  double delta_aicc = 0.0;  ///< candidate's AICc minus the accepted model's, < min_aicc_drop [-] (negative: a
+                            ///< lower AICc, accepted model chosen by its held-out error)
 };
 
 struct DiagnosisResult {
-  Preset preset = Preset::kFast;                  ///< the preset of this result (after any escalation)
-  std::vector<NumericsCheck> numerics;            ///< every solver-error check, in order (step 0)
-  std::string numerics_decision;                  ///< in words: the preset kept or escalated, and why
-  std::string numerics_warning;                   ///< non-empty when a given preset failed its check
-  NoiseSelection noise[kNumOutputs];              ///< each output's noise model as selected (or given) in step 1
-  NoiseModel weights[kNumOutputs];                ///< the noise models of the last step's weights
-  double pure_error[kNumOutputs] = {0.0, 0.0};    ///< pooled relative spread of repeats [-]; NaN without repeats
-  int pure_error_dof[kNumOutputs] = {0, 0};       ///< its degrees of freedom
+  Preset preset = Preset::kFast;                ///< the preset of this result (after any escalation)
+  std::vector<NumericsCheck> numerics;          ///< every solver-error check, in order (step 0)
+  std::string numerics_decision;                ///< in words: the preset kept or escalated, and why
+  std::string numerics_warning;                 ///< non-empty when a given preset failed its check
+  NoiseSelection noise[kNumOutputs];            ///< each output's noise model as selected (or given) in step 1
+  NoiseModel weights[kNumOutputs];              ///< the noise models of the last step's weights
+  double pure_error[kNumOutputs] = {0.0, 0.0};  ///< pooled relative spread of repeats [-]; NaN without repeats
+  int pure_error_dof[kNumOutputs] = {0, 0};     ///< its degrees of freedom
   std::string cv_scheme;
-  std::vector<std::string> skipped_terms;         ///< "name: why" for terms the data cannot show
+  std::vector<std::string> skipped_terms;  ///< "name: why" for terms the data cannot show
   FittedModel base;
-  std::vector<FittedModel> tried;                 ///< every extended model fitted, in order
+  std::vector<FittedModel> tried;  ///< every extended model fitted, in order
   FittedModel final_model;
-  std::vector<LocatedEffect> located_before;      ///< tests on the base residuals (sorted by p)
-  std::vector<std::string> not_located;           ///< "output: why" for outputs without locating tests
-  std::vector<LocatedEffect> located_after;       ///< the same tests on the final model's residuals
-  std::vector<std::string> not_located_after;     ///< not_located for the final model
+  std::vector<LocatedEffect> located_before;   ///< tests on the base residuals (sorted by p)
+  std::vector<std::string> not_located;        ///< "output: why" for outputs without locating tests
+  std::vector<LocatedEffect> located_after;    ///< the same tests on the final model's residuals
+  std::vector<std::string> not_located_after;  ///< not_located for the final model
   bool mismatch_found = false;
-  std::string explanation;                        ///< library name, "a+b", "none" or "unexplained"
+  std::string explanation;  ///< library name, "a+b", "none" or "unexplained"
   std::vector<std::string> unexplained_covariates;
   std::vector<CloseAlternative> close_alternatives;  ///< of every accepting step (step 5 above)
   EmpiricalResult empirical;                         ///< empirical terms, with the verdict "unexplained"
-  double side_force_noise_n = 0.0;                ///< noise the final model leaves: side force [N]; NaN if not measured
-  double wear_noise_rsd = 0.0;                    ///< and wear, relative [-] (step 6); NaN if not measured
-  double detection_power = 0.0;                   ///< power of the detection limits [-]
-  std::vector<DetectionLimit> detection_limits;   ///< step 6; empty when not computed
-  std::vector<std::string> log;                   ///< the selection steps in words
+  double side_force_noise_n = 0.0;               ///< noise the final model leaves: side force [N]; NaN if not measured
+  double wear_noise_rsd = 0.0;                   ///< and wear, relative [-] (step 6); NaN if not measured
+  double detection_power = 0.0;                  ///< power of the detection limits [-]
+  std::vector<DetectionLimit> detection_limits;  ///< step 6; empty when not computed
+  std::vector<std::string> log;                  ///< the selection steps in words
+  std::vector<StepTiming> timings;               ///< every step, in order, over all presets tried
+  double seconds = 0.0;                          ///< wall time of the whole diagnosis [s]
 };
 
 /// The detectability settings (detectability.h) that match a diagnosis's: its selection level, AICc drop, candidates,

@@ -48,6 +48,7 @@
 /// Limits: steady state per run or per drive point; a steady run's temperature is its recorded mean tread
 /// temperature.
 
+#include <atomic>
 #include <map>
 #include <memory>
 #include <string>
@@ -81,25 +82,26 @@ enum class Term {
 struct UserMechanism;
 class MechanismEvaluator;
 struct DriveCells;
+struct DriveNodeColumn;
 
 struct TermParameterSpec {
-  std::string name;   ///< e.g. "compliance_rad_per_n"
-  double initial;     ///< start of a fit [unit]
+  std::string name;     ///< e.g. "compliance_rad_per_n"
+  double initial;       ///< start of a fit [unit]
   double lower, upper;  ///< bounds [unit]
-  bool log_scale;     ///< fit ln(value)
-  double neutral;     ///< value at which the term has no effect [unit]; NaN when there is none (sigma_T -> inf)
-  std::string unit;   ///< e.g. "rad/N", "-" for a dimensionless one
+  bool log_scale;       ///< fit ln(value)
+  double neutral;       ///< value at which the term has no effect [unit]; NaN when there is none (sigma_T -> inf)
+  std::string unit;     ///< e.g. "rad/N", "-" for a dimensionless one
 };
 
 struct TermInfo {
   Term term;
-  std::string name;        ///< library name, e.g. "surface_polishing"
-  std::string statement;   ///< one-line physical statement
-  bool physical;           ///< false for the sensor terms
-  bool affects[kNumOutputs];  ///< side force, wear
+  std::string name;                           ///< library name, e.g. "surface_polishing"
+  std::string statement;                      ///< one-line physical statement
+  bool physical;                              ///< false for the sensor terms
+  bool affects[kNumOutputs];                  ///< side force, wear
   std::vector<TermParameterSpec> parameters;  ///< empty for turn_slip_orientation (a discrete switch)
-  int primary;             ///< index of the parameter that measures the effect's size; -1 for none
-  double temperature_ref_c = 23.0;  ///< thermal_friction reference temperature [degC] (the rig's ambient)
+  int primary;                                ///< index of the parameter that measures the effect's size; -1 for none
+  double temperature_ref_c = 23.0;            ///< thermal_friction reference temperature [degC] (the rig's ambient)
   std::shared_ptr<const UserMechanism> user = nullptr;  ///< a user-defined mechanism's expression; null if built in
 };
 
@@ -140,11 +142,32 @@ struct Prediction {
 };
 
 struct ExtendedModelOptions {
-  Preset preset = Preset::kFast;                                 ///< resolution of the brush model
+  Preset preset = Preset::kFast;                                    ///< resolution of the brush model
   TurnSlipOrientation orientation = TurnSlipOrientation::kLiteral;  ///< base orientation
   /// Drive segments on the coarse cells only (the solver-error check: the difference of two presets varies
   /// little across a coarse cell); otherwise fine cells with the coarse correction (see the file comment).
   bool coarse_drive_cells = false;
+  /// Drive segments: with no pressure, compliance or spread term away from its no-effect value, a coarse cell's
+  /// results are interpolated (Catmull-Rom, in the ln of its friction factor: mu_scale times thermal_friction's
+  /// factor at the cell's temperature) between results at nodes kMuScaleNodeSpacing apart, each evaluated once
+  /// per cell and shared by every fit of the diagnosis (a fit of mu_scale or k_T then re-simulates a few nodes
+  /// instead of every cell at every trial value). Off: each friction factor is evaluated as it is (the
+  /// solver-error check, which compares presets cell by cell).
+  bool interpolate_mu_scale = true;
+  /// Threads evaluating the brush model's cells and runs (parallel_for.h); the results do not depend on it, >= 1
+  int jobs = 1;
+};
+
+/// Spacing of the mu_scale nodes of ExtendedModelOptions::interpolate_mu_scale, in ln mu_scale [-]: 1% of friction.
+/// A segment's interpolated W_r is within 6e-5 of the direct evaluation at mu_scale 0.937 (test
+/// InterpolatedFrictionMatchesTheDirectEvaluation), against the coarse cells' own 0.5%.
+constexpr double kMuScaleNodeSpacing = 0.01;
+
+/// A coarse drive cell's part of one drive segment's predictions (ExtendedModel::coarseCellContributions).
+struct CellContribution {
+  int run;               ///< index of the segment in the data
+  double side_force_n;   ///< its share of the segment's time-weighted Fy (times a sensor gain) [N]
+  double wear_kg_per_m;  ///< its share of the segment's distance-weighted W_r [kg/m]
 };
 
 /// The base model plus a set of terms, with parameters laid out as [w3_scale, mu_scale, term parameters...].
@@ -165,6 +188,16 @@ class ExtendedModel {
   int parameterOffset(Term term) const;
   /// Predicts all runs. Returns false when the brush model cannot be evaluated at these values.
   bool predict(const std::vector<double>& values, Prediction* out) const;
+  /// With coarse_drive_cells: evaluates the brush model at `values` at the listed coarse cells only (uncached; the
+  /// solver-error check's sample, numerics_check.h) and gives each cell's contributions to the segments that
+  /// share it. A drive segment's coarse prediction (predict) is the sum of its cells' contributions, plus a sensor
+  /// offset and user terms, which act per segment; the difference of two presets' contributions is therefore the
+  /// cell's part of the segments' solver error. Returns false when the model cannot be evaluated there.
+  /// @throw std::logic_error without coarse_drive_cells.
+  bool coarseCellContributions(const std::vector<double>& values, const std::vector<int>& cells,
+                               std::vector<std::vector<CellContribution>>* out) const;
+  /// The coarse drive cells shared by all segments (0 without drive segments).
+  std::size_t coarseDriveCells() const;
   /// Operating points the brush model is evaluated at per new set of brush-relevant parameter values: the distinct
   /// steady conditions plus the coarse cells of all drive segments together (drive cells, below).
   std::size_t evaluationPoints() const;
@@ -183,6 +216,38 @@ class ExtendedModel {
   };
 
  private:
+  /// The brush-relevant parameters of a parameter vector: they decide whether a prediction re-simulates.
+  struct BrushSetting {
+    double mu_scale, k_t, compliance, q, load_std_scale;
+  };
+  BrushSetting brushSetting(const std::vector<double>& values) const;
+  /// Brush results at `setting` for each non-null point, on options_.jobs threads; false outside the terms'
+  /// validity. @throw what the brush model throws.
+  bool evaluatePoints(const BrushSetting& setting, const std::vector<const DiagnosisRun*>& points,
+                      std::vector<RawResult>* raw) const;
+  /// The w3 factor of a segment or run (w3_scale, surface_polishing) and the thermal factor at a temperature.
+  double w3Factor(const std::vector<double>& values, const DiagnosisRun& run) const;
+  double thermalW3(const std::vector<double>& values, double temperature_c) const;
+  /// The brush results of the steady runs (0..n-1) and the coarse drive cells (n..) at `values`, from the cache
+  /// or evaluated; null when the model cannot be evaluated there.
+  const std::vector<RawResult>* rawResults(const std::vector<double>& values) const;
+  /// The steady runs evaluated as they are and the coarse cells interpolated in mu_scale between nodes
+  /// (interpolate_mu_scale); null when a node cannot be evaluated.
+  std::vector<RawResult> interpolatedResults(const BrushSetting& setting, bool* ok) const;
+  /// Whether the coarse cells at `setting` are interpolated (interpolate_mu_scale, the other brush parameters at
+  /// their no-effect values).
+  bool interpolates(const BrushSetting& setting) const;
+  /// The coarse cells at a node of the friction factor, with at least `cells` evaluated (from the data's node
+  /// cache, the missing ones evaluated into it); null when they cannot be evaluated.
+  const DriveNodeColumn* nodeColumn(long node, const std::vector<int>& cells) const;
+  /// The brush results of the steady runs and coarse cells at `setting` (points with a null entry are skipped).
+  std::vector<const DiagnosisRun*> brushPoints(bool steady, bool coarse) const;
+  /// The fine drive cells at `values`: at the base parameters, carried by the coarse cells' change in `raw`.
+  bool fineDriveResults(const std::vector<double>& values, const std::vector<RawResult>& raw,
+                        std::vector<RawResult>* fine) const;
+  /// What the cached results of the drive cells depend on besides the brush parameters: the preset, the
+  /// orientation and the tire file's friction and wear levels.
+  std::vector<double> presetKey() const;
   bool has(Term t) const { return parameterOffset(t) >= 0; }
   RawResult evaluateRun(const BrushWearModel& model, const DiagnosisRun& run, double compliance,
                         double load_std_scale) const;
@@ -196,7 +261,7 @@ class ExtendedModel {
   std::vector<std::pair<int, std::shared_ptr<MechanismEvaluator>>> user_terms_;
   const DiagnosisData& data_;
   BrushOptions brush_options_;
-  std::size_t distinct_steady_ = 0;  ///< distinct conditions of the steady runs
+  std::size_t distinct_steady_ = 0;    ///< distinct conditions of the steady runs
   std::shared_ptr<DriveCells> drive_;  ///< the data's drive cells (null without drive segments)
   mutable long brush_evaluations_ = 0;
   /// Brush results for the last few values of the brush-relevant parameters: the steady runs, then the coarse
@@ -204,6 +269,9 @@ class ExtendedModel {
   /// columns cost no brush solve).
   mutable std::map<std::vector<double>, std::vector<RawResult>> cache_;
 };
+
+/// Brush evaluations of runs and cells by every ExtendedModel of the process so far (progress reports).
+std::atomic<long>& cellsEvaluated();
 
 }  // namespace diagnosis
 }  // namespace tread_wear
