@@ -259,13 +259,13 @@ def summary_tables(measured, variants):
     lines = []
     for scenario in sorted({k[1] for k in measured}):
         lines.append("### %s\n" % scenario)
-        lines.append("| brand | model | " + " | ".join("%s total" % t for t in TESTS[1:]) + " | " +
+        lines.append("| brand | model | " + " | ".join("%s total" % t for t in TESTS) + " | " +
                      " | ".join("%s F/R" % t for t in TESTS) + " | per-wheel error (blind tests) | (all tests) |")
-        lines.append("|---" * (2 + (len(TESTS) - 1) + len(TESTS) + 2) + "|")
+        lines.append("|---" * (2 + 2 * len(TESTS) + 2) + "|")
         for name, pred in variants.items():
             for row in figures(measured, pred, scenario):
                 lines.append("| %s | %s | " % (row["brand"], name) +
-                             " | ".join(fmt(row.get(t + "_total")) for t in TESTS[1:]) + " | " +
+                             " | ".join(fmt(row.get(t + "_total")) for t in TESTS) + " | " +
                              " | ".join(fmt(row.get(t + "_front_rear")) for t in TESTS) +
                              " | x%s | x%s |" % (fmt(row["geo_blind"]), fmt(row["geo_all"])))
         lines.append("")

@@ -795,8 +795,8 @@ bool ExtendedModel::predict(const std::vector<double>& values, Prediction* out) 
   const std::vector<DiagnosisRun>& cells = use_fine ? drive_->fine : drive_ ? drive_->coarse : data_.runs;
   auto cell_result = [&](int c) -> const RawResult& { return use_fine ? fine[c] : raw[n + c]; };
   // The road wear terms (contact_time_wear, adhesion_wear): additive per distance, no brush re-evaluation.
-  const double w4_extra = has(Term::kContactTimeWear) ? value(Term::kContactTimeWear, 0) : 0.0;
-  const double k_a = has(Term::kAdhesionWear) ? value(Term::kAdhesionWear, 0) : 0.0;
+  const double w4_extra = has(Term::kContactTimeWear) ? values[parameterOffset(Term::kContactTimeWear)] : 0.0;
+  const double k_a = has(Term::kAdhesionWear) ? values[parameterOffset(Term::kAdhesionWear)] : 0.0;
   const std::vector<double>* cell_work = nullptr;
   if (has(Term::kAdhesionWear) && drive_) {
     // Models of one data set may predict on several threads (--jobs); std::map keeps the reference valid.
