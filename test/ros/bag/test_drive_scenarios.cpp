@@ -7,11 +7,10 @@
 #include <std_msgs/String.h>
 
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "tread_wear/WheelLoad.h"
 #include "tread_wear/cli/command_line.h"
@@ -88,8 +87,8 @@ TEST(DriveScenarios, StyleDriveRecordsItsEnvelopeAndStaysInside) {
          "53,0\n";
   }
   const std::string bag = tempPath("style.bag");
-  const CliRun r = runDrive({"--profile", csv, "--style", "aggressive", "--max-accel-mps2", "2.5", "--rate-hz", "20",
-                             "--out", bag});
+  const CliRun r =
+      runDrive({"--profile", csv, "--style", "aggressive", "--max-accel-mps2", "2.5", "--rate-hz", "20", "--out", bag});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json scenario = driveInfo(bag).at("scenario");
   EXPECT_EQ(scenario.at("manoeuvre"), "profile");
@@ -117,8 +116,8 @@ TEST(DriveScenarios, BadOptionsAreUsageErrorsNamingTheOption) {
        "--direction must be left or right, not 'up'"},
       {{"--manoeuvre", "cruise", "--speed-kmh", "50", "--duration-s", "10", "--lateral-accel", "3"},
        "--lateral-accel is not an option of --manoeuvre cruise"},
-      {{"--manoeuvre", "accel", "--low-speed-kmh", "80", "--high-speed-kmh", "30", "--accel-mps2", "2",
-        "--decel-mps2", "3", "--duration-s", "10"},
+      {{"--manoeuvre", "accel", "--low-speed-kmh", "80", "--high-speed-kmh", "30", "--accel-mps2", "2", "--decel-mps2",
+        "3", "--duration-s", "10"},
        "--high-speed-kmh out of range"},
       {{"--manoeuvre", "cruise", "--speed-kmh", "50", "--duration-s", "10", "--profile", "x.csv"},
        "--profile is not an option of --manoeuvre cruise"},
@@ -138,6 +137,43 @@ TEST(DriveScenarios, BadOptionsAreUsageErrorsNamingTheOption) {
     EXPECT_EQ(r.exit_code, kExitUsage) << message;
     EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
   }
+}
+
+// A LEON-T test section as a drive: its scenario, laps and distance (two laps of the urban loop, 2 x 518.4 m) and the
+// Kuga's mass; bad programme options are usage errors naming the option; a missing programme is a data error.
+TEST(DriveScenarios, ProgrammeSectionIsADriveOfItsLaps) {
+  const std::string bag = tempPath("urban.bag");
+  const std::string programme = kSource + "/data/leon_t_idiada";
+  const CliRun r = runDrive(
+      {"--programme", programme, "--section", "Urban_br_20kph", "--laps", "2", "--rate-hz", "10", "--out", bag});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json info = driveInfo(bag);
+  const nlohmann::json& scenario = info.at("scenario");
+  EXPECT_EQ(scenario.at("manoeuvre"), "programme");
+  EXPECT_EQ(scenario.at("settings").at("laps").get<double>(), 2.0);
+  EXPECT_NEAR(scenario.at("distance_m").get<double>(), 2.0 * 518.4, 0.1);
+  EXPECT_EQ(info.at("vehicle").at("mass_kg").get<double>(), 1644.0);
+  EXPECT_LE(scenario.at("max_abs_lateral_accel_mps2").get<double>(), 4.0 + 1e-6);
+
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"--programme", programme}, "--programme needs --section"},
+      {{"--programme", programme, "--section", "Moon"}, "--section 'Moon' is not a test section of the programme"},
+      {{"--programme", programme, "--section", "Rural_60_kph", "--laps", "0"}, "--laps must be >= 1"},
+      {{"--programme", programme, "--section", "Rural_60_kph", "--corner-lateral-accel-mps2", "-1"},
+       "--corner-lateral-accel-mps2 out of range"},
+      {{"--programme", programme, "--section", "Rural_60_kph", "--style", "calm"},
+       "--style is not an option of --programme"}};
+  for (const auto& [options, message] : cases) {
+    std::vector<std::string> args = options;
+    args.push_back("--out");
+    args.push_back(tempPath("never_programme.bag"));
+    const CliRun bad = runDrive(args);
+    EXPECT_EQ(bad.exit_code, 2) << message;
+    EXPECT_NE(bad.err.find(message), std::string::npos) << bad.err;
+  }
+  const CliRun missing = runDrive({"--programme", "/nonexistent", "--section", "Run-in", "--out", tempPath("x.bag")});
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.err.find("/nonexistent/turns.csv: cannot open"), std::string::npos) << missing.err;
 }
 
 }  // namespace
