@@ -228,24 +228,15 @@ bool readProgramme(const CommandLine& args, const DrivingProgramme& programme, P
   return params->validate(&field_error) || failInOption(field_error, options, error);
 }
 
-/// Options of the other drive kinds, refused with --programme rather than ignored.
-constexpr const char* kNotProgrammeOptions[] = {"profile",
-                                                "lateral-accel-limit",
-                                                "seed",
-                                                "manoeuvre",
-                                                "style",
-                                                "sensors",
-                                                "max-accel-mps2",
-                                                "max-decel-mps2",
-                                                "max-lateral-accel-mps2",
-                                                "speed-kmh",
-                                                "lateral-accel",
-                                                "direction",
-                                                "duration-s",
-                                                "low-speed-kmh",
-                                                "high-speed-kmh",
-                                                "accel-mps2",
-                                                "decel-mps2"};
+/// The value options of each kind of drive: the profile's, the manoeuvres' and the styles' (refused with
+/// --programme rather than ignored), the programme's (refused without it), and those of every drive.
+const std::vector<std::string> kProfileAndManoeuvreOptions = {
+    "profile",        "lateral-accel-limit",    "seed",       "manoeuvre",     "style",     "max-accel-mps2",
+    "max-decel-mps2", "max-lateral-accel-mps2", "speed-kmh",  "lateral-accel", "direction", "duration-s",
+    "low-speed-kmh",  "high-speed-kmh",         "accel-mps2", "decel-mps2"};
+const std::vector<std::string> kProgrammeOptions = {
+    "programme", "section", "turns", "laps", "corner-lateral-accel-mps2", "steer-transition-s", "smoothing-s"};
+const std::vector<std::string> kCommonOptions = {"vehicle", "out", "rate-hz", "mass-kg", "drive-layout"};
 
 /// tread_wear_drive --programme: one test section as a drive bag, with its statistics on out.
 int runProgrammeDrive(const CommandLine& args, const std::string& share_dir, DriveOptions options, std::ostream& out,
@@ -253,8 +244,9 @@ int runProgrammeDrive(const CommandLine& args, const std::string& share_dir, Dri
   auto usage_error = [&err](const std::string& message) {
     return usageError(err, "tread_wear_drive", message, kUsage);
   };
-  for (const char* option : kNotProgrammeOptions)
-    if (args.has(option)) return usage_error(std::string("--") + option + " is not an option of --programme");
+  for (const std::string& option : kProfileAndManoeuvreOptions)
+    if (args.has(option)) return usage_error("--" + option + " is not an option of --programme");
+  if (args.has("sensors")) return usage_error("--sensors is not an option of --programme");
   const std::string dir = args.get("programme");
   const std::string turns = args.get("turns", dir + "/turns.csv");
   std::string error;
@@ -306,37 +298,10 @@ int runDriveCli(int argc, const char* const argv[], const std::string& share_dir
   };
   CommandLine args;
   std::string error;
-  if (!args.parse(argc, argv,
-                  {"profile",
-                   "vehicle",
-                   "out",
-                   "rate-hz",
-                   "lateral-accel-limit",
-                   "seed",
-                   "manoeuvre",
-                   "speed-kmh",
-                   "lateral-accel",
-                   "direction",
-                   "duration-s",
-                   "low-speed-kmh",
-                   "high-speed-kmh",
-                   "accel-mps2",
-                   "decel-mps2",
-                   "mass-kg",
-                   "drive-layout",
-                   "style",
-                   "max-accel-mps2",
-                   "max-decel-mps2",
-                   "max-lateral-accel-mps2",
-                   "programme",
-                   "section",
-                   "turns",
-                   "laps",
-                   "corner-lateral-accel-mps2",
-                   "steer-transition-s",
-                   "smoothing-s"},
-                  {"sensors", "mirror"}, &error))
-    return usage_error(error);
+  std::vector<std::string> value_options = kCommonOptions;
+  for (const auto* kind : {&kProfileAndManoeuvreOptions, &kProgrammeOptions})
+    value_options.insert(value_options.end(), kind->begin(), kind->end());
+  if (!args.parse(argc, argv, value_options, {"sensors", "mirror"}, &error)) return usage_error(error);
   if (args.help()) {
     out << kUsage;
     return 0;
@@ -351,6 +316,9 @@ int runDriveCli(int argc, const char* const argv[], const std::string& share_dir
   if (seed < 0) return usage_error("--seed must be >= 0");
   route_params.seed = static_cast<std::uint32_t>(seed);
   if (args.has("programme")) return runProgrammeDrive(args, share_dir, options, out, err);
+  for (const std::string& option : kProgrammeOptions)
+    if (args.has(option)) return usage_error("--" + option + " is an option of --programme only");
+  if (args.has("mirror")) return usage_error("--mirror is an option of --programme only");
   ManoeuvreParams manoeuvre;
   if (!readManoeuvre(args, &manoeuvre, &error)) return usage_error(error);
   std::string style;

@@ -128,7 +128,10 @@ TEST(DriveScenarios, BadOptionsAreUsageErrorsNamingTheOption) {
       {{"--manoeuvre", "cruise", "--speed-kmh", "50", "--duration-s", "10", "--style", "calm"},
        "--style is not an option of --manoeuvre cruise"},
       {{"--mass-kg", "-5"}, "--mass-kg out of range: mass_kg = -5: must be finite and > 0"},
-      {{"--drive-layout", "middle"}, "--drive-layout must be front, rear or all, not 'middle'"}};
+      {{"--drive-layout", "middle"}, "--drive-layout must be front, rear or all, not 'middle'"},
+      {{"--manoeuvre", "cruise", "--speed-kmh", "50", "--duration-s", "10", "--laps", "2"},
+       "--laps is an option of --programme only"},
+      {{"--mirror"}, "--mirror is an option of --programme only"}};
   for (const auto& [options, message] : cases) {
     std::vector<std::string> args = options;
     args.push_back("--out");
