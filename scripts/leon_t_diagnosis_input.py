@@ -31,6 +31,8 @@ import subprocess
 import sys
 from collections import defaultdict
 
+from leon_t_validation import read_csv, scenario_masses  # one reader of the programme's tables
+
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BIN = os.environ.get("TREAD_WEAR_BIN", os.path.join(REPO, "_build", "devel", "lib", "tread_wear"))
 WHEELS = {"FL": "front_left", "FR": "front_right", "RL": "rear_left", "RR": "rear_right"}
@@ -42,11 +44,6 @@ GAP_S = 5.0  # between sections: no input (the segmenter skips it); checkpoints 
 
 def fail(message):
     sys.exit("leon_t_diagnosis_input: " + message)
-
-
-def read_csv(path):
-    with open(path, newline="") as f:
-        return list(csv.DictReader(f))
 
 
 def read_measurements(path):
@@ -97,11 +94,6 @@ def plan_sections(programme):
         fewest = min(n for _, n in sections)
         plan[test] = [(s, max(1, round(n / fewest))) for s, n in sections]
     return plan
-
-
-def scenario_masses(programme):
-    return {r["Scenario"]: float(r["Mass (kg)"]) for r in read_csv(os.path.join(programme, "vehicle.csv"))
-            if r["Vehicle brand"] == "Ford"}
 
 
 def section_bag(args, section, laps, mass, cache):
