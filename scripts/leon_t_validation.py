@@ -131,7 +131,8 @@ def simulate(job):
     run([os.path.join(BIN, "tread_wear_drive"), "--programme", args.programme, "--section", section, "--laps",
          str(laps), "--vehicle", args.vehicle, "--mass-kg", repr(mass), "--rate-hz", repr(args.rate_hz), "--out", bag,
          "--corner-lateral-accel-mps2", repr(args.corner_lateral_accel_mps2), "--steer-transition-s",
-         repr(args.steer_transition_s)] + (["--mirror"] if args.mirror else []))
+         repr(args.steer_transition_s)] + (["--mirror"] if args.mirror else [])
+        + (["--slow-for-corners"] if args.slow_for_corners else []))
     result = {}
     for variant, config in configs.items():
         summary = bag[:-4] + "_" + variant + ".json"
@@ -316,6 +317,8 @@ def main():
     ap.add_argument("--tire", default=os.path.join(REPO, "config", "tires", "suv_225_60_r18.yaml"))
     ap.add_argument("--laps", type=int, default=3, help="laps per section (they are alike; default 3)")
     ap.add_argument("--rate-hz", type=float, default=50.0)
+    ap.add_argument("--slow-for-corners", action="store_true",
+                    help="keep the corners' radii and slow to the corner bound (tread_wear_drive --slow-for-corners)")
     ap.add_argument("--corner-lateral-accel-mps2", type=float, default=4.0,
                     help="the driver's bound in corners (tread_wear_drive; default 4)")
     ap.add_argument("--steer-transition-s", type=float, default=1.0, help="clothoids into corners (default 1 s)")

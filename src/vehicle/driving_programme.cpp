@@ -1,7 +1,9 @@
 #include "tread_wear/vehicle/driving_programme.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 
@@ -16,6 +18,8 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kDistanceRounding_m = 1e-6;
 /// Sampling of the built drive for its largest lateral acceleration [s].
 constexpr double kStatsStep_s = 0.1;
+/// Distance grid of the corner speed bound (CellTrace::capped) [m].
+constexpr double kCapGrid_m = 0.5;
 
 bool finiteNonNegative(double v) { return std::isfinite(v) && v >= 0.0; }
 
@@ -56,6 +60,43 @@ class CellTrace {
       throw std::invalid_argument("driving programme: a Constant manoeuvre of " + std::to_string(distance_m) +
                                   " m at standstill");
     push({distance_m / v, 0.0}, v, distance_m);
+  }
+  /// The same drive with the speed at most cap(s) (a list of [s0, s1, v_max]), reached by braking at brake
+  /// and left by accelerating at accel: the distance-domain forward-backward bound of lap-time simulation, on a
+  /// grid of ds (v^2 is linear in s within a cell of constant acceleration, so the grid only moves cell edges).
+  CellTrace capped(const std::vector<std::array<double, 3>>& caps, double brake_mps2, double accel_mps2,
+                   double ds_m) const {
+    const std::size_t n = static_cast<std::size_t>(std::ceil(distance() / ds_m));
+    std::vector<double> s(n + 1), v2(n + 1);
+    std::size_t k = 0;
+    for (std::size_t i = 0; i <= n; ++i) {
+      s[i] = std::min(distance(), i * ds_m);
+      while (k + 1 < cells_.size() && s_[k + 1] < s[i]) ++k;
+      const double v = cells_.empty() ? v_.front() : speedAt(k, s[i]);
+      v2[i] = v * v;
+    }
+    // The corners' bound alone, with its braking before and acceleration after; the programme's own manoeuvres
+    // keep their constants.
+    std::vector<double> bound(n + 1, std::numeric_limits<double>::infinity());
+    for (const auto& cap : caps)
+      for (std::size_t i = 0; i <= n; ++i)
+        if (s[i] >= cap[0] && s[i] <= cap[1]) bound[i] = std::min(bound[i], cap[2] * cap[2]);
+    for (std::size_t i = n; i-- > 0;) bound[i] = std::min(bound[i], bound[i + 1] + 2.0 * brake_mps2 * (s[i + 1] - s[i]));
+    for (std::size_t i = 1; i <= n; ++i)
+      bound[i] = std::min(bound[i], bound[i - 1] + 2.0 * accel_mps2 * (s[i] - s[i - 1]));
+    bool binds = false;
+    for (std::size_t i = 0; i <= n; ++i) {
+      binds = binds || bound[i] < v2[i];
+      v2[i] = std::min(v2[i], bound[i]);
+    }
+    if (!binds) return *this;
+    CellTrace out(std::sqrt(v2[0]));
+    for (std::size_t i = 0; i < n; ++i) {
+      const double ds = s[i + 1] - s[i], v0 = std::sqrt(v2[i]), v1 = std::sqrt(v2[i + 1]);
+      if (!(ds > 0.0) || v0 + v1 <= 0.0) continue;
+      out.push({2.0 * ds / (v0 + v1), (v2[i + 1] - v2[i]) / (2.0 * ds)}, v1, ds);
+    }
+    return out;
   }
   /// Largest speed while the distance driven is in [s0, s1] (speed is monotone within a cell).
   double maxSpeed(double s0, double s1) const {
@@ -249,6 +290,10 @@ bool ProgrammeDriveParams::validate(std::string* error) const {
   if (!finiteNonNegative(steer_transition_s))
     return failValidation(error, "steer_transition_s", steer_transition_s, "finite and >= 0 [s]");
   if (!finiteNonNegative(smoothing_s)) return failValidation(error, "smoothing_s", smoothing_s, "finite and >= 0 [s]");
+  if (!(corner_brake_mps2 > 0.0) || !std::isfinite(corner_brake_mps2))
+    return failValidation(error, "corner_brake_mps2", corner_brake_mps2, "finite and > 0 [m/s^2]");
+  if (!(corner_accel_mps2 > 0.0) || !std::isfinite(corner_accel_mps2))
+    return failValidation(error, "corner_accel_mps2", corner_accel_mps2, "finite and > 0 [m/s^2]");
   return true;
 }
 
@@ -286,6 +331,21 @@ ProgrammeDrive buildProgrammeDrive(const DrivingProgramme& programme, const Prog
     }
   }
 
+  if (params.slow_for_corners) {
+    std::vector<std::array<double, 3>> caps;
+    for (int lap = 0; lap < section->laps; ++lap) {
+      double start_m = lap * lap_m;
+      for (const ProgrammeSector& sector : track.sectors) {
+        if (sector.radius_m > 0.0) {
+          const double v_corner = std::sqrt(params.max_lateral_accel_mps2 * sector.radius_m);
+          const double run_in_m = 0.5 * v_corner * params.steer_transition_s;
+          caps.push_back({start_m - run_in_m - kCapGrid_m, start_m + sector.length_m + run_in_m + kCapGrid_m, v_corner});
+        }
+        start_m += sector.length_m;
+      }
+    }
+    trace = trace.capped(caps, params.corner_brake_mps2, params.corner_accel_mps2, kCapGrid_m);
+  }
   const double mirror = params.mirror ? -1.0 : 1.0;
   std::vector<CornerShape> corners;
   std::vector<RoadPiece> road;

@@ -87,6 +87,43 @@ TEST(DrivingProgramme, CornersKeepTheirHeadingChangeAndTheDriversBound) {
   }
 }
 
+TEST(DrivingProgramme, SlowingForCornersKeepsTheRadiusAndBrakesBeforeThem) {
+  const DrivingProgramme programme = ovalProgramme();
+  ProgrammeDriveParams params;
+  params.slow_for_corners = true;
+  params.max_lateral_accel_mps2 = 4.0;
+  params.smoothing_s = 0.0;
+  const ProgrammeDrive drive = buildProgrammeDrive(programme, programme.sections.front(), params);
+  // Radius kept (100/pi m), so the corner speed is sqrt(4 x 100/pi) = 11.28 m/s, reached by braking at 2.94 m/s^2
+  // from the programme's 20 m/s and left at 1 m/s^2; the laps keep their length and heading change.
+  const double radius_m = 100.0 / kPi, v_corner = std::sqrt(4.0 * radius_m);
+  EXPECT_EQ(drive.widened_corners, 0);
+  EXPECT_NEAR(drive.motion.distance_m(), 3000.0, 1e-6);
+  // Bound: the route's curvature is sampled 1e-9 s inside each break (routeOf), kappa x 1e-9 x 2000 m per break.
+  EXPECT_NEAR(headingChange(drive.motion.route(), 1000.0, 2000.0), -2.0 * kPi, 8.0 * 2e-6 / radius_m);
+  EXPECT_LE(drive.max_lateral_accel_mps2, 4.0 * (1.0 + 1e-6));
+  double min_speed_on_arc = 1e9, max_decel = 0.0, max_accel = 0.0;
+  for (double t = 0.0; t <= drive.motion.duration_s(); t += 0.01) {
+    const VehicleMotion m = drive.motion.at(t);
+    if (std::fabs(m.path_curvature_per_m) > 0.999 / radius_m) min_speed_on_arc = std::min(min_speed_on_arc, m.speed_mps);
+    max_decel = std::max(max_decel, -m.accel_mps2);
+    max_accel = std::max(max_accel, m.accel_mps2);
+  }
+  EXPECT_NEAR(min_speed_on_arc, v_corner, 0.01 * v_corner);
+  EXPECT_NEAR(max_decel, params.corner_brake_mps2, 1e-9);  // the corners' braking, harder than the programme's 1
+  EXPECT_NEAR(max_accel, 2.0, 1e-9);                       // the programme's own 2 m/s^2 kept
+  // Slower through the corners: longer than widening them at the programme's speed.
+  params.slow_for_corners = false;
+  EXPECT_GT(drive.motion.duration_s(),
+            buildProgrammeDrive(programme, programme.sections.front(), params).motion.duration_s() + 1.0);
+  // A bound the programme never reaches changes nothing.
+  params.slow_for_corners = true;
+  params.max_lateral_accel_mps2 = 20.0;
+  const ProgrammeDrive unbound = buildProgrammeDrive(programme, programme.sections.front(), params);
+  params.slow_for_corners = false;
+  EXPECT_EQ(unbound.motion.duration_s(), buildProgrammeDrive(programme, programme.sections.front(), params).motion.duration_s());
+}
+
 TEST(DrivingProgramme, GradeAndBankFollowTheSectorUnderTheCar) {
   const DrivingProgramme programme = ovalProgramme();
   ProgrammeDriveParams params;
@@ -131,6 +168,14 @@ TEST(DrivingProgramme, BadProgrammesAreRefusedByName) {
   ProgrammeDriveParams bad = params;
   bad.max_lateral_accel_mps2 = 0.0;
   EXPECT_THROW(buildProgrammeDrive(programme, programme.sections.front(), bad), std::invalid_argument);
+  ProgrammeDriveParams bad_brake = params;
+  bad_brake.corner_brake_mps2 = std::nan("");
+  try {
+    buildProgrammeDrive(programme, programme.sections.front(), bad_brake);
+    ADD_FAILURE() << "a NaN corner braking was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("corner_brake_mps2"), std::string::npos) << e.what();
+  }
 }
 
 TEST(DrivingProgramme, LeonTSectionsDriveTheirLapsAndKeepTheirHeading) {

@@ -20,7 +20,10 @@
 ///     radius is widened to R' = max(R, v_max^2 / max_lateral_accel_mps2) (v_max the largest speed on the corner), and
 ///     curvature ramps in and out over clothoids of length min(v_max steer_transition_s, R' angle), so the path
 ///     is longer than the sector by the transition; the extra length is taken from the neighbouring sectors
-///     (the corner stays centred on its sector). Overlapping corners add their curvatures (heading changes kept);
+///     (the corner stays centred on its sector). Overlapping corners add their curvatures (heading changes kept).
+///     With slow_for_corners the radius is kept instead and the speed bounded by sqrt(bound R) over the corner and
+///     its clothoids, braking before at corner_brake_mps2 and accelerating after at corner_accel_mps2 (the
+///     distance-domain forward-backward bound of lap-time simulation; the programme's own constants kept);
 ///   - a manoeuvre that needs more distance than its sector has runs on into the next sector, whose Constant
 ///     manoeuvres are shortened by the overrun (the lap keeps its length; what no Constant manoeuvre could absorb
 ///     is reported as ProgrammeDrive::unabsorbed_m);
@@ -96,6 +99,12 @@ struct DrivingProgramme {
 /// The builder's own assumptions (file comment).
 struct ProgrammeDriveParams {
   double max_lateral_accel_mps2 = 4.0;  ///< driver's bound on v^2 kappa in corners [m/s^2], > 0
+  /// How the driver keeps a corner within max_lateral_accel_mps2 where the programme's speed would exceed it:
+  /// false widens the radius (speed kept), true keeps the radius and slows to sqrt(bound R) over the corner,
+  /// braking before it at corner_brake_mps2 and accelerating after it at corner_accel_mps2.
+  bool slow_for_corners = false;
+  double corner_brake_mps2 = 2.94;  ///< deceleration into a corner driven slower [m/s^2], > 0
+  double corner_accel_mps2 = 1.0;   ///< acceleration out of it [m/s^2], > 0
   double steer_transition_s = 1.0;      ///< clothoid length = v_max x this [s], >= 0
   double smoothing_s = 1.0;             ///< speed-trace smoothing window tau (drive_motion.h) [s], >= 0
   bool mirror = false;                  ///< drive every corner the other way

@@ -28,7 +28,8 @@ const char* const kUsage =
     "                        [--profile SPEED.csv] [--vehicle VEHICLE.yaml] [--mass-kg M] [--drive-layout L]\n"
     "                        [--rate-hz 50] [--lateral-accel-limit 3.0] [--seed N] [--sensors] --out DRIVE.bag\n"
     "       tread_wear_drive --programme DIR --section ID [--turns TURNS.csv] [--laps N] [--mirror]\n"
-    "                        [--corner-lateral-accel-mps2 4] [--steer-transition-s 1] [--smoothing-s 1]\n"
+    "                        [--corner-lateral-accel-mps2 4] [--slow-for-corners] [--corner-brake-mps2 2.94]\n"
+    "                        [--corner-accel-mps2 1] [--steer-transition-s 1] [--smoothing-s 1]\n"
     "                        [--vehicle VEHICLE.yaml] [--mass-kg M] [--drive-layout L] [--rate-hz 50] --out DRIVE.bag\n"
     "                        (vehicle default: config/vehicle_ford_kuga.yaml, the programme's car)\n"
     "  --manoeuvre  profile: the speed profile over its route (default); cruise: constant speed on a straight;\n"
@@ -57,6 +58,8 @@ const char* const kUsage =
     "    --turns    each corner's direction [default: DIR/turns.csv]; --mirror drives every corner the other way\n"
     "    --laps     laps instead of the programme's (the laps are alike: per-km results need only a few)\n"
     "    --corner-lateral-accel-mps2  the driver's bound on v^2 kappa: corners widened to reach it [m/s^2]\n"
+    "    --slow-for-corners  keep each corner's radius and slow to the bound instead, braking before it at\n"
+    "               --corner-brake-mps2 and accelerating after it at --corner-accel-mps2 [m/s^2]\n"
     "    --steer-transition-s  clothoid length into and out of a corner = v x this [s]\n"
     "    --smoothing-s  speed-step smoothing window [s]\n";
 
@@ -214,16 +217,21 @@ bool readProgramme(const CommandLine& args, const DrivingProgramme& programme, P
   if (!args.integer("laps", &section->laps, error) ||
       !args.number("corner-lateral-accel-mps2", &params->max_lateral_accel_mps2, error) ||
       !args.number("steer-transition-s", &params->steer_transition_s, error) ||
-      !args.number("smoothing-s", &params->smoothing_s, error))
+      !args.number("smoothing-s", &params->smoothing_s, error) ||
+      !args.number("corner-brake-mps2", &params->corner_brake_mps2, error) ||
+      !args.number("corner-accel-mps2", &params->corner_accel_mps2, error))
     return false;
   if (section->laps < 1) {
     *error = "--laps must be >= 1";
     return false;
   }
   params->mirror = args.has("mirror");
+  params->slow_for_corners = args.has("slow-for-corners");
   const std::pair<const char*, const char*> options[] = {{"max_lateral_accel_mps2", "--corner-lateral-accel-mps2"},
                                                          {"steer_transition_s", "--steer-transition-s"},
-                                                         {"smoothing_s", "--smoothing-s"}};
+                                                         {"smoothing_s", "--smoothing-s"},
+                                                         {"corner_brake_mps2", "--corner-brake-mps2"},
+                                                         {"corner_accel_mps2", "--corner-accel-mps2"}};
   std::string field_error;
   return params->validate(&field_error) || failInOption(field_error, options, error);
 }
@@ -235,7 +243,8 @@ const std::vector<std::string> kProfileAndManoeuvreOptions = {
     "max-decel-mps2", "max-lateral-accel-mps2", "speed-kmh",  "lateral-accel", "direction", "duration-s",
     "low-speed-kmh",  "high-speed-kmh",         "accel-mps2", "decel-mps2"};
 const std::vector<std::string> kProgrammeOptions = {
-    "programme", "section", "turns", "laps", "corner-lateral-accel-mps2", "steer-transition-s", "smoothing-s"};
+    "programme",          "section",           "turns",      "laps", "corner-lateral-accel-mps2", "steer-transition-s",
+    "smoothing-s",        "corner-brake-mps2", "corner-accel-mps2"};
 const std::vector<std::string> kCommonOptions = {"vehicle", "out", "rate-hz", "mass-kg", "drive-layout"};
 
 /// tread_wear_drive --programme: one test section as a drive bag, with its statistics on out.
@@ -267,7 +276,10 @@ int runProgrammeDrive(const CommandLine& args, const std::string& share_dir, Dri
                                       {"corner_lateral_accel_mps2", params.max_lateral_accel_mps2},
                                       {"steer_transition_s", params.steer_transition_s},
                                       {"smoothing_s", params.smoothing_s},
-                                      {"mirror", params.mirror ? 1.0 : 0.0}}};
+                                      {"mirror", params.mirror ? 1.0 : 0.0},
+                                      {"slow_for_corners", params.slow_for_corners ? 1.0 : 0.0},
+                                      {"corner_brake_mps2", params.corner_brake_mps2},
+                                      {"corner_accel_mps2", params.corner_accel_mps2}}};
     const DriveStats stats = writeDriveBag(args.get("out"), drive.motion, {section.id, 0.0, 0.0, {}, scenario},
                                            VehicleModel(vehicle_params), RouteParams{}, options);
     out << formatted(
@@ -276,8 +288,10 @@ int runProgrammeDrive(const CommandLine& args, const std::string& share_dir, Dri
         args.get("out").c_str(), section.id.c_str(), section.test.c_str(), section.track.c_str(), section.laps,
         drive.lap_length_m, stats.duration_s, stats.distance_m / 1000.0, stats.samples, options.rate_hz,
         stats.max_abs_accel_mps2, stats.max_abs_lateral_accel_mps2);
-    out << formatted("  corners widened to %g m/s^2: %d per lap; manoeuvre distance beyond the laps: %.1f m\n",
-                     params.max_lateral_accel_mps2, drive.widened_corners, drive.unabsorbed_m);
+    out << formatted("  corner bound %g m/s^2 (%s): %d corners widened per lap; manoeuvre distance beyond the laps: "
+                     "%.1f m\n",
+                     params.max_lateral_accel_mps2, params.slow_for_corners ? "slowed to" : "widened to",
+                     drive.widened_corners, drive.unabsorbed_m);
     out << formatted("  vehicle: %s, %.0f kg, %s-wheel drive\n", vehicle_params.name.c_str(), vehicle_params.mass_kg,
                      driveLayoutName(vehicle_params.drive_layout));
   } catch (const std::exception& e) {
@@ -301,7 +315,7 @@ int runDriveCli(int argc, const char* const argv[], const std::string& share_dir
   std::vector<std::string> value_options = kCommonOptions;
   for (const auto* kind : {&kProfileAndManoeuvreOptions, &kProgrammeOptions})
     value_options.insert(value_options.end(), kind->begin(), kind->end());
-  if (!args.parse(argc, argv, value_options, {"sensors", "mirror"}, &error)) return usage_error(error);
+  if (!args.parse(argc, argv, value_options, {"sensors", "mirror", "slow-for-corners"}, &error)) return usage_error(error);
   if (args.help()) {
     out << kUsage;
     return 0;
@@ -318,7 +332,8 @@ int runDriveCli(int argc, const char* const argv[], const std::string& share_dir
   if (args.has("programme")) return runProgrammeDrive(args, share_dir, options, out, err);
   for (const std::string& option : kProgrammeOptions)
     if (args.has(option)) return usage_error("--" + option + " is an option of --programme only");
-  if (args.has("mirror")) return usage_error("--mirror is an option of --programme only");
+  for (const char* flag : {"mirror", "slow-for-corners"})
+    if (args.has(flag)) return usage_error(std::string("--") + flag + " is an option of --programme only");
   ManoeuvreParams manoeuvre;
   if (!readManoeuvre(args, &manoeuvre, &error)) return usage_error(error);
   std::string style;
