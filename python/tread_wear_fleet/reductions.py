@@ -135,8 +135,9 @@ def vehicle_reduction(vehicle, outcomes):
     wheels = [wheel_reduction(vehicle, name, tire, days.get(name, [])) for name, tire in vehicle.wheels]
     failures = [{"bag": bag, "reason": outcomes[bag]["error"]} for _, bag in vehicle.bags if "error" in outcomes[bag]]
     rates = [w["mg_per_km"] for w in wheels if w["mg_per_km"] is not None]
+    drive_time_s = sum(outcomes[bag]["result"]["duration_s"] for _, bag in vehicle.bags if "error" not in outcomes[bag])
     return {"vehicle": vehicle.vehicle_id, "covariates": vehicle.covariates, "bags": len(vehicle.bags),
-            "replayed_bags": len(vehicle.bags) - len(failures), "failures": failures,
+            "replayed_bags": len(vehicle.bags) - len(failures), "failures": failures, "drive_time_s": drive_time_s,
             "mean_mg_per_km": sum(rates) / len(rates) if rates else None, "wheels": wheels}
 
 
