@@ -27,7 +27,7 @@ def find_bin_dir(explicit=None, tool=tasks.REPLAY_TOOL):
             return os.path.abspath(candidate)
     if explicit:
         raise layout.FleetError(f"--bin {explicit}: no executable {tool} there")
-    raise layout.FleetError(f"{tool} not found: pass --bin DIR or set TREAD_WEAR_BIN (e.g. _build/devel/lib/tread_wear)")
+    raise layout.FleetError(f"{tool} not found: pass --bin DIR or set TREAD_WEAR_BIN (_build/devel/lib/tread_wear)")
 
 
 def build_jobs(vehicles, bin_dir, replay_args):

@@ -23,6 +23,7 @@ sys.path.insert(0, os.path.join(SOURCE_DIR, "python"))
 from tread_wear_fleet import cli, generate  # noqa: E402
 
 RESULT_FILES = ("bags.csv", "daily.csv", "wheels.csv", "failures.csv")
+RUN = {"plots": False, "progress": False, "replay_args": ["--preset", "fast"]}
 STARTUP_TIMEOUT_S = 30.0
 
 
@@ -80,8 +81,8 @@ class FleetDistributedTest(unittest.TestCase):
         cls.bin_dir = cli.find_bin_dir(os.environ.get("TREAD_WEAR_BIN"))
         cls.work = tempfile.mkdtemp(prefix="fleet_test_")
         cls.fleet = os.path.join(cls.work, "fleet")
-        # 5 vehicles x 2 days: both kinds, all three styles, drives of 90 s of the cycle (~0.5 s of replay each).
-        generate.generate(cls.fleet, SOURCE_DIR, cls.bin_dir, vehicles=5, days=2, drive_s=90, rate_hz=10.0, seed=7,
+        # 5 vehicles x 2 days: both kinds, all three styles, drives of about 70 s (~0.3 s of replay each, preset fast).
+        generate.generate(cls.fleet, SOURCE_DIR, cls.bin_dir, vehicles=5, days=2, drive_s=60, rate_hz=10.0, seed=7,
                           jobs=2, readings=False)
         good = os.path.join(cls.fleet, "v000", "drives", "2026-01-05_0.bag")
         with open(good, "rb") as f:
@@ -92,7 +93,7 @@ class FleetDistributedTest(unittest.TestCase):
         cls.empty = os.path.join(cls.fleet, "v001", "drives", "2026-01-07_0.bag")
         open(cls.empty, "wb").close()
         cls.serial = cli.run_fleet(cls.fleet, os.path.join(cls.work, "serial"), serial=True, bin_dir=cls.bin_dir,
-                                   plots=False, progress=False)
+                                   **RUN)
 
     @classmethod
     def tearDownClass(cls):
@@ -105,6 +106,7 @@ class FleetDistributedTest(unittest.TestCase):
 
     def test_killed_worker_loses_nothing_and_bad_bags_are_reported(self):
         self.assertEqual(self.serial["run"]["replayed"], 10)
+        self.assertTrue(all(v["wheels"][0]["mg_per_km"] > 0 for v in self.serial["vehicles"]))
         cluster = LocalCluster(self.work)
         try:
             pids = cluster.worker_pids()
@@ -124,8 +126,7 @@ class FleetDistributedTest(unittest.TestCase):
             killer = threading.Thread(target=kill_a_busy_worker)
             killer.start()
             out = os.path.join(self.work, "distributed")
-            document = cli.run_fleet(self.fleet, out, scheduler=cluster.address, bin_dir=self.bin_dir, plots=False,
-                                     progress=False)
+            document = cli.run_fleet(self.fleet, out, scheduler=cluster.address, bin_dir=self.bin_dir, **RUN)
             killer.join()
             self.assertIn("address", killed, "no worker was busy to be killed")
             dead = [p for p, _ in cluster.processes[1:] if p.poll() is not None]
@@ -139,15 +140,14 @@ class FleetDistributedTest(unittest.TestCase):
             self.assertIn("empty", reasons[self.empty])
 
             # Rerun on what is left of the cluster: nothing replayed again; then one changed bag, replayed alone.
-            again = cli.run_fleet(self.fleet, out, scheduler=cluster.address, bin_dir=self.bin_dir, plots=False,
-                                  progress=False)
+            again = cli.run_fleet(self.fleet, out, scheduler=cluster.address, bin_dir=self.bin_dir, **RUN)
             self.assertEqual((again["run"]["replayed"], again["run"]["cached"], again["run"]["failed"]), (0, 10, 2))
             self._assert_same_results(out)
         finally:
             cluster.close()
         changed = os.path.join(self.fleet, "v002", "drives", "2026-01-06_0.bag")
         shutil.copy(os.path.join(self.fleet, "v001", "drives", "2026-01-06_0.bag"), changed)  # other config
-        third = cli.run_fleet(self.fleet, out, workers=2, bin_dir=self.bin_dir, plots=False, progress=False)
+        third = cli.run_fleet(self.fleet, out, serial=True, bin_dir=self.bin_dir, **RUN)
         self.assertEqual((third["run"]["submitted"], third["run"]["replayed"], third["run"]["cached"]), (3, 1, 9))
 
 

@@ -17,7 +17,8 @@ TIRE = layout.Tire("tire.yaml", 8e-3, 1000.0, 0.1, 1.0 / (2.0 * math.pi))
 
 
 def outcome(distance_m, loss_kg, wheels=("left", "right")):
-    return {"result": {"wheels": [{"name": w, "distance_m": distance_m, "mass_loss_kg": loss_kg} for w in wheels]}}
+    wheel_results = [{"name": w, "distance_m": distance_m, "mass_loss_kg": loss_kg} for w in wheels]
+    return {"result": {"duration_s": 600.0, "wheels": wheel_results}}
 
 
 def vehicle(days, readings=(), kind=None, vehicle_id="v"):
@@ -86,7 +87,7 @@ class ReductionTest(unittest.TestCase):
     def test_failed_bags_are_listed_and_left_out(self):
         v, outcomes = vehicle([(0, 10e3, 200e-6), (1, "bag data unreadable (corrupt or truncated)")])
         r = reductions.vehicle_reduction(v, outcomes)
-        self.assertEqual((r["bags"], r["replayed_bags"]), (2, 1))
+        self.assertEqual((r["bags"], r["replayed_bags"], r["drive_time_s"]), (2, 1, 600.0))
         self.assertEqual(r["failures"], [{"bag": "/fleet/v/drives/1.bag",
                                           "reason": "bag data unreadable (corrupt or truncated)"}])
         self.assertAlmostEqual(r["wheels"][0]["distance_km"], 10.0)
