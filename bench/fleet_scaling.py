@@ -49,6 +49,9 @@ def main():
             fleet = os.path.join(work, "fleet")
             generate.generate(fleet, source, bin_dir, vehicles=args.vehicles, days=args.days, drive_s=args.drive_s,
                               jobs=2, readings=False)
+        start = time.monotonic()
+        import distributed  # noqa: F401  (its import, once per command, is reported apart from the runs)
+        print(f"import of Dask distributed: {time.monotonic() - start:.2f} s (once per command)")
         print(f"load average before: {open('/proc/loadavg').read().split()[:3]}")
         best = {}
         for _ in range(args.repeat):

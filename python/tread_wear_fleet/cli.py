@@ -2,10 +2,11 @@
 
   tread_wear_fleet FLEET_DIR --out DIR [--scheduler ADDRESS] [--workers N]
 
-Without --scheduler it starts a local cluster of N worker processes (one thread each); with it, it uses the running
-cluster at ADDRESS (tcp://host:8786), whose workers must see FLEET_DIR, DIR and the package's binaries at the same
-paths (docs/fleet.md). Outputs in DIR: bags.csv, daily.csv, wheels.csv, failures.csv, fleet.json and the plots; the
-per-bag cache in DIR/cache. Exit status 0, 1 when a bag failed (the rest is complete), 2 on bad usage or layout.
+Without --scheduler it starts a local cluster of N workers in this process (each task runs the replay as its own
+process, so they run in parallel); with --scheduler it uses the running cluster at ADDRESS (tcp://host:8786), whose
+workers must see FLEET_DIR, DIR and the package's binaries at the same paths (docs/fleet.md). Outputs in DIR:
+bags.csv, daily.csv, wheels.csv, failures.csv, fleet.json and the plots; the per-bag cache in DIR/cache.
+Exit status 0, 1 when a bag failed (the rest is complete), 2 on bad usage or layout.
 """
 import argparse
 import os
@@ -66,7 +67,7 @@ def main(argv=None):
     parser.add_argument("--out", required=True, metavar="DIR", help="output directory (and its cache/)")
     parser.add_argument("--scheduler", metavar="ADDRESS", help="a running Dask scheduler, e.g. tcp://host:8786")
     parser.add_argument("--workers", type=int, default=os.cpu_count() or 1, metavar="N",
-                        help="worker processes of the local cluster (without --scheduler) [default: cores]")
+                        help="workers of the local cluster (without --scheduler), one replay each [default: cores]")
     parser.add_argument("--serial", action="store_true", help="no Dask: every bag in this process, in order")
     parser.add_argument("--preset", choices=("fast", "standard", "fine", "reference"),
                         help="wear model preset instead of each vehicle's wheel configuration's")
