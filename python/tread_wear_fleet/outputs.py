@@ -55,8 +55,8 @@ def write_tables(out_dir, document, vehicles, outcomes, fleet_dir):
                                            "mg_per_km_daily_sd", "model_mm_per_1000km", "model_depth_mm",
                                            "model_km_to_limit", "model_date_at_limit", "readings",
                                            "readings_mm_per_1000km", "readings_mm_per_1000km_se",
-                                           "readings_depth_mm", "readings_km_to_limit", "readings_date_at_limit",
-                                           "outlier"],
+                                           "readings_over_model", "readings_depth_mm", "readings_km_to_limit",
+                                           "readings_date_at_limit", "outlier"],
                ([v["vehicle"]] + [v["covariates"].get(k) for k in covariates] +
                 [w["wheel"], w["days"], w["distance_km"], w["km_per_day"], w["mg_per_km"], w["mg_per_km_daily_sd"],
                  w["model_mm_per_1000km"], w["model_depth_mm"], w["model_km_to_limit"], w["model_date_at_limit"]] +
@@ -72,9 +72,9 @@ def write_tables(out_dir, document, vehicles, outcomes, fleet_dir):
 
 def _readings_cells(readings):
     if readings is None:
-        return [0, None, None, None, None, None]
-    return [readings["n"], readings["mm_per_1000km"], readings["mm_per_1000km_se"], readings["depth_end_mm"],
-            readings["km_to_limit"], readings["date_at_limit"]]
+        return [0, None, None, None, None, None, None]
+    return [readings["n"], readings["mm_per_1000km"], readings["mm_per_1000km_se"], readings["over_model"],
+            readings["depth_end_mm"], readings["km_to_limit"], readings["date_at_limit"]]
 
 
 def write_plots(out_dir, document):

@@ -125,7 +125,9 @@ def wheel_reduction(vehicle, wheel, tire, series):
         readings.update({"depth_end_mm": readings["depth_end_m"] * 1e3, "km_to_limit": km, "date_at_limit": date,
                          "mm_per_1000km": None if readings["rate_m_per_m"] is None else readings["rate_m_per_m"] * 1e9,
                          "mm_per_1000km_se": None if readings["rate_se_m_per_m"] is None
-                         else readings["rate_se_m_per_m"] * 1e9})
+                         else readings["rate_se_m_per_m"] * 1e9,
+                         "over_model": None if readings["rate_m_per_m"] is None or not model_rate
+                         else readings["rate_m_per_m"] / model_rate})
     return result
 
 

@@ -71,6 +71,7 @@ class ReductionTest(unittest.TestCase):
         self.assertAlmostEqual(fit["mm_per_1000km"], 1.0, places=9)
         self.assertAlmostEqual(fit["mm_per_1000km_se"], 0.0, places=9)
         self.assertAlmostEqual(fit["depth_end_mm"], 7.98, places=9)
+        self.assertAlmostEqual(fit["over_model"], 5.0, places=9)
         self.assertAlmostEqual(fit["km_to_limit"], (7.98 - 1.6) / 1.0 * 1000, places=3)
         self.assertIsNone(reductions.vehicle_reduction(v, outcomes)["wheels"][1]["readings"])
 
