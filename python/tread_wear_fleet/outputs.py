@@ -120,13 +120,15 @@ def write_plots(out_dir, document):
     names = [v["vehicle"] for v in reduced if v["mean_mg_per_km"] is not None]
     values = [v["mean_mg_per_km"] for v in reduced if v["mean_mg_per_km"] is not None]
     colours = ["tab:red" if v.get("outlier") else "tab:blue" for v in reduced if v["mean_mg_per_km"] is not None]
-    ax.scatter(range(len(values)), values, c=colours, s=14)
+    ax.scatter(range(len(values)), values, c=colours, s=14, zorder=3)
+    if len(names) <= 40:
+        ax.set_xticks(range(len(names)), names, rotation=90, fontsize=7)
     fleet = document["fleet"]
     if fleet["median_mg_per_km"] is not None:
         ax.axhline(fleet["median_mg_per_km"], color="k", lw=0.8, label="fleet median")
         if fleet["mad_mg_per_km"]:
             band = document["outlier_robust_z"] * 1.4826 * fleet["mad_mg_per_km"]
-            ax.axhspan(fleet["median_mg_per_km"] - band, fleet["median_mg_per_km"] + band, color="0.9",
+            ax.axhspan(fleet["median_mg_per_km"] - band, fleet["median_mg_per_km"] + band, color="0.9", zorder=0,
                        label=f"|robust z| <= {document['outlier_robust_z']:g}")
         ax.legend()
     for i, (name, colour) in enumerate(zip(names, colours)):
