@@ -43,6 +43,15 @@ target_compile_definitions(test_diagnosis_bag PRIVATE
 add_dependencies(test_diagnosis_bag ${PROJECT_NAME}_generate_messages_py)
 include(cmake/rostests.cmake)
 
+# The fleet layer (python/tread_wear_fleet, docs/fleet.md): its layout's checks, its reductions against hand-computed
+# values, and the whole command on a real Dask scheduler with two worker processes, one killed mid-run (needs the
+# replay and drive tools).
+add_test(NAME fleet_layout COMMAND ${PYTHON_EXECUTABLE} ${PROJECT_SOURCE_DIR}/test/fleet/test_fleet_layout.py)
+add_test(NAME fleet_reductions COMMAND ${PYTHON_EXECUTABLE} ${PROJECT_SOURCE_DIR}/test/fleet/test_fleet_reductions.py)
+add_test(NAME fleet_distributed COMMAND ${PYTHON_EXECUTABLE} ${PROJECT_SOURCE_DIR}/test/fleet/test_fleet_distributed.py)
+set_tests_properties(fleet_distributed PROPERTIES TIMEOUT 180
+                     ENVIRONMENT "TREAD_WEAR_BIN=$<TARGET_FILE_DIR:${PROJECT_NAME}_replay>")
+
 # Structure checks, part of the test command so that CI and the README run them with everything else:
 #  - architecture: the code follows the module map of docs/architecture.md (scripts/check_architecture.py);
 #  - catkin_lint: the package files pass catkin_lint (Debian's catkin-lint, installed by scripts/setup.sh) at its

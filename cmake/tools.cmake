@@ -20,10 +20,10 @@ target_compile_definitions(${PROJECT_NAME}_vehicle_inputs PRIVATE TREAD_WEAR_SHA
 
 # Python tools, installed next to the C++ ones (rosrun tread_wear <name>.py; catkin_install_python points their first
 # line at catkin's python): the synthetic input publisher, the plots of the tools' outputs and the grid checks (which
-# run tread_wear_eval from TREAD_WEAR_BIN).
+# run tread_wear_eval from TREAD_WEAR_BIN), and the fleet's commands over Dask (python/tread_wear_fleet, docs/fleet.md).
 catkin_install_python(PROGRAMS scripts/grid_convergence.py scripts/plot_diagnosis.py scripts/plot_drive.py
                       scripts/plot_wear_characteristics.py scripts/publish_wheel_inputs.py scripts/replay_done.py
-                      scripts/wltc_grid_check.py
+                      scripts/wltc_grid_check.py scripts/tread_wear_fleet scripts/tread_wear_fleet_generate
                       DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 # Not installed: the repository's own workflows, which run from a checkout (they change to the repository root, read
 # config/, data/ and examples/ there, and use a build directory such as _build): scripts/*.sh (main job, tests,

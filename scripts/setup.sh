@@ -24,6 +24,8 @@ TREAD_WEAR_APT_PACKAGES=(
   libboost-dev
   # plotting scripts
   python3-matplotlib python3-numpy
+  # the fleet layer (tread_wear_fleet, docs/fleet.md): Dask distributed, an existing distributed engine
+  python3-distributed
   # CI's check of the ROS package files (catkin_lint in .ci/run)
   catkin-lint
 )

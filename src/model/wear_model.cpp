@@ -2,8 +2,10 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <stdexcept>
+#include <type_traits>
 
 #include "tread_wear/model/validation.h"
 
@@ -163,6 +165,18 @@ OperatingPoint lowSpeedPoint(const OperatingPoint& op, const WearModelOptions& o
   return eval_op;
 }
 
+namespace {
+
+// Every field of the point, bit for bit (NaN temperatures equal, -0 and +0 apart): the solver's input is then the
+// same, and so is its result. A new field of OperatingPoint must be a double, or this comparison must change.
+static_assert(std::is_trivially_copyable_v<OperatingPoint> && sizeof(OperatingPoint) == 6 * sizeof(double),
+              "samePoint compares OperatingPoint's bytes: every field must be one of its six doubles");
+bool samePoint(const OperatingPoint& a, const OperatingPoint& b) {
+  return std::memcmp(&a, &b, sizeof(OperatingPoint)) == 0;
+}
+
+}  // namespace
+
 EvalStatus WearModel::evaluate(const OperatingPoint& op, WearResult* result, PatchFields* fields) const {
   if (!op.validate(nullptr)) return EvalStatus::kInvalidInput;
   Preset preset = choosePreset();
@@ -177,7 +191,19 @@ EvalStatus WearModel::evaluate(const OperatingPoint& op, WearResult* result, Pat
   const OperatingPoint eval_op = lowSpeedPoint(op, options_, &low_speed);
   const EvalStatus status = low_speed ? EvalStatus::kLowSpeed : EvalStatus::kOk;
   const auto start = std::chrono::steady_clock::now();
-  solver.evaluate(eval_op, result, fields);
+  const bool reusable = budget_s_ == 0.0 && fields == nullptr;  // a budget times every solve; fields need one
+  reused_ = reusable && has_last_ && last_preset_ == preset && samePoint(eval_op, last_op_);
+  if (reused_) {
+    *result = last_result_;
+  } else {
+    solver.evaluate(eval_op, result, fields);
+    if (reusable) {
+      has_last_ = true;
+      last_op_ = eval_op;
+      last_preset_ = preset;
+      last_result_ = *result;
+    }
+  }
   const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (status == EvalStatus::kLowSpeed) result->wear_rate_kg_per_s = result->wear_rate_kg_per_m * op.speed_mps;
 

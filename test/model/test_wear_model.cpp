@@ -217,6 +217,55 @@ TEST(BrushMarcher, SimdPacksAgreeWithOneStripAtATime) {
   EXPECT_LT(worst_fraction, 1e-6);
 }
 
+// A repeated point is not solved again, and its result is bit for bit what a model that never saw it solves.
+TEST(WearModelRepeatedPoint, ReusesTheLastSolveOnlyForTheSamePointAndPreset) {
+  const WearModel model(TireParams(), fastOptions());
+  const auto same = [](const WearResult& a, const WearResult& b) {
+    return a.fx_n == b.fx_n && a.fy_n == b.fy_n && a.mz_nm == b.mz_nm && a.wear_rate_kg_per_m == b.wear_rate_kg_per_m &&
+           a.wear_rate_kg_per_s == b.wear_rate_kg_per_s && a.stick_fraction == b.stick_fraction &&
+           a.slide_fraction == b.slide_fraction && a.exact_stick_fraction == b.exact_stick_fraction &&
+           a.half_length_m == b.half_length_m && a.half_width_m == b.half_width_m &&
+           a.max_root_iterations == b.max_root_iterations && a.root_iterations == b.root_iterations &&
+           a.refined_substeps == b.refined_substeps;
+  };
+  const OperatingPoint a = rigPoint(0.3), b = rigPoint(0.31);
+  WearResult first, again, other, fresh;
+  model.evaluate(a, &first);
+  EXPECT_FALSE(model.lastEvaluationReused());
+  model.evaluate(a, &again);
+  EXPECT_TRUE(model.lastEvaluationReused());
+  WearModel(TireParams(), fastOptions()).evaluate(a, &fresh);
+  EXPECT_TRUE(same(again, fresh));
+  EXPECT_TRUE(same(first, fresh));
+  model.evaluate(b, &other);
+  EXPECT_FALSE(model.lastEvaluationReused());
+  EXPECT_NE(other.fy_n, first.fy_n);
+  // Below the low-speed threshold every speed is solved at the threshold: one solve, wear per time at its own speed.
+  WearResult stand_a, stand_b;
+  model.evaluate(rigPoint(0.0), &stand_a);
+  model.evaluate(rigPoint(0.05), &stand_b);
+  EXPECT_TRUE(model.lastEvaluationReused());
+  EXPECT_EQ(stand_a.wear_rate_kg_per_s, 0.0);
+  EXPECT_EQ(stand_b.wear_rate_kg_per_s, stand_b.wear_rate_kg_per_m * 0.05);
+  // Another preset, a time budget (every solve is timed) or local fields: solved again.
+  WearModel presets(TireParams(), fastOptions());
+  presets.evaluate(a, &first);
+  presets.setPreset(Preset::kStandard);
+  presets.evaluate(a, &again);
+  EXPECT_FALSE(presets.lastEvaluationReused());
+  presets.setTimeBudget(1.0);
+  presets.evaluate(a, &again);
+  presets.evaluate(a, &again);
+  EXPECT_FALSE(presets.lastEvaluationReused());
+  presets.setTimeBudget(0.0);
+  PatchFields fields;
+  fields.resize(presets.solver(Preset::kStandard).nodesX(), presets.solver(Preset::kStandard).strips());
+  presets.evaluate(a, &again);
+  presets.evaluate(a, &again, &fields);
+  EXPECT_FALSE(presets.lastEvaluationReused());
+  EXPECT_FALSE(fields.pressure_pa.empty());
+}
+
 TEST(WearModelInput, InvalidPointsAreRejectedAndLeaveTheResultUntouched) {
   const WearModel model(TireParams(), fastOptions());
   const double nan = std::numeric_limits<double>::quiet_NaN();

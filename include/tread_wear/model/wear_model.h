@@ -22,6 +22,11 @@
 /// climbs back when the machine gets quieter. degraded() and degradedCount() report coarser-than-wanted
 /// evaluations (the node publishes them as a diagnostic). recordTiming() injects a time (tests, seeding).
 /// WearModel is not thread-safe (the timing state changes in the const evaluate()): one per thread.
+///
+/// Repeated points: without a time budget and without local fields, an evaluation at the same point (every field
+/// bit for bit, after the low-speed convention) and preset as the last one returns that one's solver result
+/// without solving again: a standstill, or inputs held between their samples when the wheel steps faster than they
+/// arrive. The result is the solver's own, so nothing changes but the cost (lastEvaluationReused()).
 
 #include <array>
 #include <iterator>
@@ -100,6 +105,8 @@ class WearModel {
   bool degraded() const { return active_ != wanted_; }
   /// Number of evaluations that used a coarser preset than the wanted one.
   long degradedCount() const { return degraded_count_; }
+  /// True if the last evaluation reused the result of the one before (the same point and preset; see above).
+  bool lastEvaluationReused() const { return reused_; }
   /// Smoothed measured time of a preset [s]; NaN if not measured yet.
   double timing(Preset preset) const { return timing_s_[static_cast<int>(preset)]; }
   /// Feeds one measured evaluation time [s] of a preset into its smoothed time.
@@ -124,6 +131,12 @@ class WearModel {
   mutable std::array<double, kPresets> timing_s_;
   mutable long degraded_count_ = 0;
   mutable long since_probe_ = 0;
+  // The last solved point (low-speed convention applied), its preset and the solver's result (repeated points).
+  mutable bool has_last_ = false;
+  mutable bool reused_ = false;
+  mutable OperatingPoint last_op_;
+  mutable Preset last_preset_ = Preset::kStandard;
+  mutable WearResult last_result_;
 };
 
 }  // namespace tread_wear

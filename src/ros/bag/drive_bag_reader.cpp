@@ -4,7 +4,11 @@
 #include <rosbag/view.h>
 #include <std_msgs/String.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <map>
+#include <utility>
+#include <vector>
 
 #include "tread_wear/TreadTemperature.h"
 #include "tread_wear/WheelLoad.h"
@@ -32,6 +36,62 @@ bool checkTopic(const std::string& path, const std::map<std::string, const rosba
     throw BagError(path + ": topic " + topic + " has a different definition of " + expected + " (md5 " +
                    it->second->md5sum + ", expected " + ros::message_traits::md5sum<M>() + ")");
   return true;
+}
+
+/// Reads messages of one type into one reused message object through one reused buffer: no allocation per message
+/// once the buffer and the header's frame_id have grown to the largest message.
+class MessageDecoder {
+ public:
+  template <typename M>
+  const M& decode(const rosbag::MessageInstance& m, M* msg) {
+    if (buffer_.empty()) buffer_.resize(kInitialBytes);
+    std::size_t bytes = 0;
+    try {
+      ros::serialization::OStream out(buffer_.data(), static_cast<std::uint32_t>(buffer_.size()));
+      m.write(out);
+      bytes = static_cast<std::size_t>(out.getData() - buffer_.data());
+    } catch (const ros::serialization::StreamOverrunException&) {  // a larger message: grow once, read again
+      buffer_.resize(m.size());
+      ros::serialization::OStream out(buffer_.data(), static_cast<std::uint32_t>(buffer_.size()));
+      m.write(out);
+      bytes = buffer_.size();
+    }
+    ros::serialization::IStream in(buffer_.data(), static_cast<std::uint32_t>(bytes));
+    ros::serialization::deserialize(in, *msg);
+    return *msg;
+  }
+
+ private:
+  static constexpr std::size_t kInitialBytes = 256;
+  std::vector<std::uint8_t> buffer_;
+};
+
+/// The samples of one input topic in time order, as inputSample() makes them, without allocating per message.
+void readTopic(const rosbag::Bag& bag, const std::string& topic, InputKind kind, MessageDecoder* decoder,
+               std::vector<InputSample>* samples) {
+  rosbag::View view(bag, rosbag::TopicQuery(topic));
+  samples->reserve(samples->size() + view.size());
+  WheelLoad load;
+  WheelSlip slip;
+  WheelSpeed speed;
+  TreadTemperature temperature;
+  for (const rosbag::MessageInstance& m : view) {
+    InputSample sample;
+    sample.t_s = m.getTime().toSec();
+    sample.kind = kind;
+    switch (kind) {
+      case InputKind::kLoad: sample.value[0] = decoder->decode(m, &load).load_n; break;
+      case InputKind::kSlip:
+        decoder->decode(m, &slip);
+        sample.value[0] = slip.slip_angle_rad;
+        sample.value[1] = slip.slip_ratio;
+        sample.value[2] = slip.path_curvature_per_m;
+        break;
+      case InputKind::kSpeed: sample.value[0] = decoder->decode(m, &speed).speed_mps; break;
+      case InputKind::kTemperature: sample.value[0] = decoder->decode(m, &temperature).temperature_c; break;
+    }
+    samples->push_back(sample);
+  }
 }
 
 }  // namespace
@@ -69,22 +129,17 @@ DriveInfo readDriveBag(const std::string& path, const ReplayConfig& config, Driv
     rosbag::View all(bag);
     for (const rosbag::ConnectionInfo* c : all.getConnections()) connections[c->topic] = c;
 
-    // Which topic feeds which wheel and input.
-    struct Route {
-      int wheel;
-      InputKind kind;
-    };
-    std::map<std::string, Route> routes;
-    for (int w = 0; w < static_cast<int>(config.wheels.size()); ++w) {
-      const std::size_t i = static_cast<std::size_t>(w);
+    // Which topics feed each wheel, of which input.
+    std::vector<std::vector<std::pair<std::string, InputKind>>> wheel_topics(config.wheels.size());
+    for (std::size_t i = 0; i < config.wheels.size(); ++i) {
       checkTopic<WheelLoad>(path, connections, config.load_topics[i], true);
       checkTopic<WheelSlip>(path, connections, config.slip_topics[i], true);
       checkTopic<WheelSpeed>(path, connections, config.speed_topics[i], true);
-      routes[config.load_topics[i]] = {w, InputKind::kLoad};
-      routes[config.slip_topics[i]] = {w, InputKind::kSlip};
-      routes[config.speed_topics[i]] = {w, InputKind::kSpeed};
+      wheel_topics[i] = {{config.load_topics[i], InputKind::kLoad},
+                         {config.slip_topics[i], InputKind::kSlip},
+                         {config.speed_topics[i], InputKind::kSpeed}};
       if (checkTopic<TreadTemperature>(path, connections, config.temperature_topics[i], false))
-        routes[config.temperature_topics[i]] = {w, InputKind::kTemperature};
+        wheel_topics[i].emplace_back(config.temperature_topics[i], InputKind::kTemperature);
     }
     if (connections.count(kDriveInfoTopic) != 0) {
       checkTopic<std_msgs::String>(path, connections, kDriveInfoTopic, false);
@@ -100,12 +155,19 @@ DriveInfo readDriveBag(const std::string& path, const ReplayConfig& config, Driv
       }
     }
 
-    std::vector<std::string> topics;
-    for (const auto& r : routes) topics.push_back(r.first);
-    rosbag::View view(bag, rosbag::TopicQuery(topics));
-    for (const rosbag::MessageInstance& m : view) {
-      const Route& r = routes.at(m.getTopic());
-      replay->addSample(r.wheel, inputSample(m, r.kind));
+    // Topic by topic (a view of one topic needs no merging), each wheel's topics then merged by time: samples of
+    // one time stamp are all applied before the same step, so their order among the topics changes nothing.
+    MessageDecoder decoder;
+    std::vector<InputSample> samples;
+    for (std::size_t i = 0; i < wheel_topics.size(); ++i) {
+      samples.clear();
+      for (const auto& [topic, kind] : wheel_topics[i]) {
+        const auto middle = static_cast<std::ptrdiff_t>(samples.size());
+        readTopic(bag, topic, kind, &decoder, &samples);
+        std::inplace_merge(samples.begin(), samples.begin() + middle, samples.end(),
+                           [](const InputSample& a, const InputSample& b) { return a.t_s < b.t_s; });
+      }
+      for (const InputSample& sample : samples) replay->addSample(static_cast<int>(i), sample);
     }
   } catch (const rosbag::BagException& e) {
     throw BagError(path + ": bag data unreadable (corrupt or truncated): " + e.what());
