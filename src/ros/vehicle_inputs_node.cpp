@@ -45,7 +45,7 @@ std::uint64_t rejectedCount(const VehicleInputEstimator& e, Sensor s) {
 const char* fallbackOf(Sensor s) {
   switch (s) {
     case Sensor::kImu: return "loads and lateral model on the flat-road fallback (speed derivative), yaw rate from wheels";
-    case Sensor::kWheelSpeed: return "speed from the reference speed / IMU dead reckoning; slip ratio invalid";
+    case Sensor::kWheelSpeed: return "speed from the reference speed / IMU dead reckoning; slip ratio from the force demand";
     case Sensor::kSteering: return "front slip angles from the single-track model";
     case Sensor::kSpeed: return "no rolling-radius learning; speed from wheels + IMU";
   }
@@ -570,6 +570,7 @@ void VehicleInputsNode::wheelDiagnostics(int wheel, diagnostic_updater::Diagnost
   if (w.flags & kFlagSteeringModel) text += "; steering from the single-track model";
   if (w.flags & kFlagRadiusNotConverged) text += "; radius not converged";
   if (w.flags & kFlagLowSpeed) text += "; low speed";
+  if (w.flags & kFlagSlipRatioFromForce) text += "; slip ratio from the force demand";
   stat.summary(static_cast<unsigned char>(level), text);
 }
 
