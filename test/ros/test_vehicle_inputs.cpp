@@ -276,7 +276,7 @@ TEST(VehicleInputs, AWheelWithoutSpeedIsPublishedWithItsSlipRatioFromTheForceDem
   // Steady straight: the force demand is the resistances alone, a slip ratio well below 0.005 (an undriven rear
   // wheel rolls against its own rolling resistance only).
   EXPECT_NEAR(rr.slip_ratio_sum / rr.slips, 0.0, 0.005);
-  for (int i = 0; i < kWheelCount; ++i) {
+  for (int i = 0; i < kWheels; ++i) {
     const WheelSeen w = harness->seen(i);
     ASSERT_GT(w.loads, 20) << kNames[i];
     EXPECT_NEAR(w.load_sum / w.loads, staticLoad(i), 0.02 * staticLoad(i)) << kNames[i];
