@@ -79,6 +79,8 @@ bool VehicleInputsConfig::validate(std::string* error) const {
   for (const std::string& j : wheel_joints)
     if (j == steering_joint)
       return fail(error, "steering_joint = '" + steering_joint + "': must differ from the wheel joints");
+  if (!(speed_delivery_s >= 0.0 && speed_delivery_s <= 1.0))
+    return fail(error, "speed_delivery_s = " + number(speed_delivery_s) + ": must be in [0, 1] [s]");
   if (!(tf_timeout_s >= 0.0 && tf_timeout_s <= 1.0))
     return fail(error, "tf_timeout_s = " + number(tf_timeout_s) + ": must be in [0, 1] [s]");
   if (!(save_interval_s > 0.0)) return fail(error, "save_interval_s = " + number(save_interval_s) + ": must be > 0 [s]");
@@ -95,6 +97,7 @@ std::string VehicleInputsConfig::describe() const {
   std::ostringstream s;
   s << "publish_rate_hz: " << publish_rate_hz << "\ninput_time: " << (input_time ? "true" : "false")
     << "\nspeed_source: " << speed_source << "\nspeed_rule: " << speedRuleName(speed_rule)
+    << "\nspeed_delivery_s: " << speed_delivery_s
     << "\nbase_frame: " << base_frame << "\ncog_position_m: [" << cog_position_m[0] << ", " << cog_position_m[1]
     << ", " << cog_position_m[2] << "]\nuse_wheel_speeds: " << (use_wheel_speeds ? "true" : "false");
   for (int i = 0; i < kWheelCount; ++i)
@@ -188,11 +191,12 @@ double VehicleInputPipeline::toEstimatorTime(double stamp_s) {
 SampleFault VehicleInputPipeline::addImu(double stamp_s, const std::array<double, 3>& f, const std::array<double, 3>& w) {
   restartIfPending();
   ++counters_.imu;
+  const double t = toEstimatorTime(stamp_s);
   if (!imu_mounted_) {
     ++counters_.imu_without_mount;
     return SampleFault::kNone;
   }
-  return estimator_->addImu(toEstimatorTime(stamp_s), f[0], f[1], f[2], w[0], w[1], w[2]);
+  return estimator_->addImu(t, f[0], f[1], f[2], w[0], w[1], w[2]);
 }
 
 void VehicleInputPipeline::addJoints(double stamp_s, const std::vector<std::string>& names,
@@ -235,7 +239,25 @@ void VehicleInputPipeline::addJoints(double stamp_s, const std::vector<std::stri
 SampleFault VehicleInputPipeline::addSpeed(double stamp_s, double v_x_mps, double v_y_mps) {
   restartIfPending();
   ++counters_.speed;
-  return estimator_->addSpeed(toEstimatorTime(stamp_s), referenceSpeed(config_.speed_rule, v_x_mps, v_y_mps));
+  const double speed = referenceSpeed(config_.speed_rule, v_x_mps, v_y_mps);
+  if (!config_.input_time) return estimator_->addSpeed(toEstimatorTime(stamp_s), speed);
+  if (held_count_ == kHeldSpeeds) {  // more than the buffer behind: the oldest enters now
+    estimator_->addSpeed(toEstimatorTime(held_speeds_[held_first_].stamp_s), held_speeds_[held_first_].speed_mps);
+    held_first_ = (held_first_ + 1) % kHeldSpeeds;
+    --held_count_;
+  }
+  held_speeds_[(held_first_ + held_count_) % kHeldSpeeds] = {stamp_s, speed};
+  ++held_count_;
+  return SampleFault::kNone;
+}
+
+void VehicleInputPipeline::releaseSpeeds(double t_s) {
+  while (held_count_ > 0 &&
+         held_speeds_[held_first_].stamp_s + config_.speed_delivery_s <= t_s + kGridTolerance_s) {
+    estimator_->addSpeed(toEstimatorTime(held_speeds_[held_first_].stamp_s), held_speeds_[held_first_].speed_mps);
+    held_first_ = (held_first_ + 1) % kHeldSpeeds;
+    --held_count_;
+  }
 }
 
 bool VehicleInputPipeline::cycle(double t_s) {
@@ -253,9 +275,11 @@ bool VehicleInputPipeline::startGrid(double stamp_s) {
   if (!std::isfinite(stamp_s)) return false;
   if (grid_started_ && stamp_s < gridTime(next_cycle_ - 1) - config_.estimator.max_step_s) {
     grid_started_ = false;  // a looped bag: a new grid, and a new estimator with the learned radii
+    held_count_ = 0;
     restart_pending_ = true;
     restartIfPending();
   }
+  toEstimatorTime(stamp_s);  // the epoch from the first stamp that starts a grid, if none before
   if (!grid_started_) {
     next_cycle_ = static_cast<std::int64_t>(std::ceil(stamp_s * config_.publish_rate_hz - 1e-6));
     grid_started_ = true;

@@ -7,7 +7,9 @@
 ///                  estimator's parameters; one defaults table, one validate(), read from the same YAML file by
 ///                  both (io/vehicle_inputs_config.h: the node through the parameter server, the tool from the file);
 ///   intake         every sample at its header stamp (never its arrival): IMU in its own axes with its mount in
-///                  base_frame, joint states by name with their signs, the reference speed by the speed rule;
+///                  base_frame, joint states by name with their signs, the reference speed by the speed rule (in
+///                  input time held until the first cycle at or after its stamp + speed_delivery_s, so that the
+///                  cycle it enters depends on its stamp, not on when it came);
 ///   fallbacks      VehicleInputEstimator's (estimation/vehicle_input_estimator.h), and a restart with the learned
 ///                  radii when the clock goes backwards;
 ///   the cycle      cycle(t) at a time the driver chooses (the node's timer), or in input time
@@ -60,6 +62,9 @@ struct VehicleInputsConfig {
   std::string speed_source = "odom";       ///< reference speed: "odom" (nav_msgs/Odometry on `odom`) or "twist"
                                            ///< (geometry_msgs/TwistWithCovarianceStamped on `speed`)
   SpeedRule speed_rule = SpeedRule::kPlanarNorm;  ///< how its twist becomes a speed (see the file comment)
+  double speed_delivery_s = 0.1;           ///< input time: a reference speed stamped s enters the first cycle at or
+                                           ///< after s + this, the bound of its delivery delay behind the IMU and
+                                           ///< joint states (odometry and GNSS come late) [s], [0, 1]
   std::string base_frame = "base_link";    ///< body frame (REP-103: x forward, y left, z up)
   std::array<double, 3> cog_position_m{{0.0, 0.0, 0.55}};  ///< CoG in base_frame [m] (default z = cog_height_m)
   bool cog_position_set = false;           ///< cog_position_m given (else z = the vehicle's h)
@@ -136,7 +141,8 @@ class VehicleInputPipeline {
   /// wheel alone is rejected, never an old value in its place) and the steering-wheel position [rad].
   void addJoints(double stamp_s, const std::vector<std::string>& names, const std::vector<double>& position,
                  const std::vector<double>& velocity);
-  /// A reference-speed twist, linear (v_x, v_y) [m/s], through the speed rule.
+  /// A reference-speed twist, linear (v_x, v_y) [m/s], through the speed rule. In input time held for its cycle
+  /// (kNone; a fault is counted by the estimator when it enters).
   SampleFault addSpeed(double stamp_s, double v_x_mps, double v_y_mps);
 
   /// The cycle on the driver's clock: estimates at t_s [s] (the source's clock). false for a backward or non-finite
@@ -150,6 +156,7 @@ class VehicleInputPipeline {
     if (!startGrid(stamp_s)) return;
     for (double t = gridTime(next_cycle_); t < stamp_s - kGridTolerance_s; t = gridTime(next_cycle_)) {
       ++next_cycle_;
+      releaseSpeeds(t);
       cycle(t);
       on_cycle(t);
     }
@@ -180,6 +187,12 @@ class VehicleInputPipeline {
   void rebuildEstimator();
   void restartIfPending();
   bool startGrid(double stamp_s);
+  /// Input time: the held reference speeds due at a cycle at t_s (stamp + speed_delivery_s <= t_s) into the estimator.
+  void releaseSpeeds(double t_s);
+  struct HeldSpeed {
+    double stamp_s = 0.0, speed_mps = 0.0;
+  };
+  static constexpr std::size_t kHeldSpeeds = 64;  ///< input time: reference speeds held at most [-]
   double gridTime(std::int64_t index) const { return static_cast<double>(index) / config_.publish_rate_hz; }
 
   VehicleInputsConfig config_;
@@ -192,6 +205,8 @@ class VehicleInputPipeline {
   bool restart_pending_ = false;
   bool grid_started_ = false;
   std::int64_t next_cycle_ = 0;  ///< input time: index of the next cycle on the grid k / publish_rate_hz
+  std::array<HeldSpeed, kHeldSpeeds> held_speeds_{};  ///< ring buffer, oldest at held_first_
+  std::size_t held_first_ = 0, held_count_ = 0;
   std::vector<int> joint_index_;  ///< per name of the last joint-states layout: wheel 0..3, 4 steering, -1 none
   std::vector<std::string> joint_names_;  ///< that layout
   IntakeCounters counters_;

@@ -307,7 +307,9 @@ VehicleInputsResult runVehicleInputs(const std::string& in_path, const std::stri
                    e.what());
   }
   VehicleInputsResult result;
-  VehicleInputPipeline pipeline(options.config);
+  VehicleInputsConfig config = options.config;
+  config.input_time = true;  // the tool always runs in input time
+  VehicleInputPipeline pipeline(config);
   TruthTable truth;
   SensorTopics topics;
   try {
