@@ -183,19 +183,28 @@ VehicleInputEstimatorParams checked(const VehicleInputEstimatorParams& params) {
 
 VehicleInputEstimator::VehicleInputEstimator(const VehicleInputEstimatorParams& params)
     : params_(checked(params)), observer_(params_.observer), learner_(params_.radius_learner, params_.wheel_radius_m) {
-  const double cr = std::cos(params_.imu_mount_rpy_rad[0]), sr = std::sin(params_.imu_mount_rpy_rad[0]);
-  const double cp = std::cos(params_.imu_mount_rpy_rad[1]), sp = std::sin(params_.imu_mount_rpy_rad[1]);
-  const double cy = std::cos(params_.imu_mount_rpy_rad[2]), sy = std::sin(params_.imu_mount_rpy_rad[2]);
-  // R_m = Rz(yaw) Ry(pitch) Rx(roll), row-major.
-  mount_ = {cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr,
-            sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr,
-            -sp,     cp * sr,                cp * cr};
+  setImuMount(params_.imu_mount_rpy_rad, params_.imu_position_m);
   const VehicleParams& v = params_.vehicle;
   wheel_x_ = {v.cog_to_front_axle_m, v.cog_to_front_axle_m, -v.cogToRearAxle_m(), -v.cogToRearAxle_m()};
   wheel_y_ = {0.5 * v.track_front_m, -0.5 * v.track_front_m, 0.5 * v.track_rear_m, -0.5 * v.track_rear_m};
   gyro_bias_ = params_.gyro_bias_rps;
   wheel_used_stamp_.fill(-1e300);
   wheel_change_s_.fill(-1e300);
+}
+
+bool VehicleInputEstimator::setImuMount(const std::array<double, 3>& rpy, const std::array<double, 3>& position_m) {
+  for (int k = 0; k < 3; ++k)
+    if (!(std::isfinite(rpy[k]) && std::abs(rpy[k]) <= M_PI && std::isfinite(position_m[k]))) return false;
+  params_.imu_mount_rpy_rad = rpy;
+  params_.imu_position_m = position_m;
+  const double cr = std::cos(rpy[0]), sr = std::sin(rpy[0]);
+  const double cp = std::cos(rpy[1]), sp = std::sin(rpy[1]);
+  const double cy = std::cos(rpy[2]), sy = std::sin(rpy[2]);
+  // R_m = Rz(yaw) Ry(pitch) Rx(roll), row-major.
+  mount_ = {cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr,
+            sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr,
+            -sp,     cp * sr,                cp * cr};
+  return true;
 }
 
 SampleFault VehicleInputEstimator::reject(Sensor sensor, SampleFault fault) {

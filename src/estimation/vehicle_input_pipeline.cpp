@@ -1,5 +1,6 @@
 #include "tread_wear/estimation/vehicle_input_pipeline.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -14,6 +15,9 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 /// The estimator's clock starts this long before the first time seen, on a whole second [s].
 constexpr double kEpochLead_s = 10.0;
+/// The mount angles are taken to this step [rad], far below any calibration: a transform that went through tf2's
+/// matrix form (the node) then gives the same estimator as the message's own quaternion (the tool).
+constexpr double kMountAngleStep_rad = 1e-9;
 
 std::string number(double v) {
   std::ostringstream s;
@@ -79,8 +83,8 @@ bool VehicleInputsConfig::validate(std::string* error) const {
   for (const std::string& j : wheel_joints)
     if (j == steering_joint)
       return fail(error, "steering_joint = '" + steering_joint + "': must differ from the wheel joints");
-  if (!(speed_delivery_s >= 0.0 && speed_delivery_s <= 1.0))
-    return fail(error, "speed_delivery_s = " + number(speed_delivery_s) + ": must be in [0, 1] [s]");
+  if (!(input_delay_s >= 0.0 && input_delay_s <= 1.0))
+    return fail(error, "input_delay_s = " + number(input_delay_s) + ": must be in [0, 1] [s]");
   if (!(tf_timeout_s >= 0.0 && tf_timeout_s <= 1.0))
     return fail(error, "tf_timeout_s = " + number(tf_timeout_s) + ": must be in [0, 1] [s]");
   if (!(save_interval_s > 0.0)) return fail(error, "save_interval_s = " + number(save_interval_s) + ": must be > 0 [s]");
@@ -97,7 +101,7 @@ std::string VehicleInputsConfig::describe() const {
   std::ostringstream s;
   s << "publish_rate_hz: " << publish_rate_hz << "\ninput_time: " << (input_time ? "true" : "false")
     << "\nspeed_source: " << speed_source << "\nspeed_rule: " << speedRuleName(speed_rule)
-    << "\nspeed_delivery_s: " << speed_delivery_s
+    << "\ninput_delay_s: " << input_delay_s
     << "\nbase_frame: " << base_frame << "\ncog_position_m: [" << cog_position_m[0] << ", " << cog_position_m[1]
     << ", " << cog_position_m[2] << "]\nuse_wheel_speeds: " << (use_wheel_speeds ? "true" : "false");
   for (int i = 0; i < kWheelCount; ++i)
@@ -154,16 +158,14 @@ bool VehicleInputPipeline::setImuMount(const std::array<double, 4>& q, const std
   if (!std::isfinite(norm) || norm < 1e-6) return false;
   for (double c : origin_m)
     if (!std::isfinite(c)) return false;
-  const std::array<double, 3> rpy = SensorModel::rpyOf(q);
+  std::array<double, 3> rpy = SensorModel::rpyOf(q);
+  for (double& angle : rpy) angle = std::round(angle / kMountAngleStep_rad) * kMountAngleStep_rad;
   const std::array<double, 3> lever{{origin_m[0] - config_.cog_position_m[0], origin_m[1] - config_.cog_position_m[1],
                                      origin_m[2] - config_.cog_position_m[2]}};
-  const bool changed = !imu_mounted_ || rpy != config_.estimator.imu_mount_rpy_rad ||
-                       lever != config_.estimator.imu_position_m;
-  imu_mounted_ = true;
-  if (!changed) return true;
-  config_.estimator.imu_mount_rpy_rad = rpy;
+  if (!estimator_->setImuMount(rpy, lever)) return false;
+  config_.estimator.imu_mount_rpy_rad = rpy;  // for a restart
   config_.estimator.imu_position_m = lever;
-  rebuildEstimator();
+  imu_mounted_ = true;
   return true;
 }
 
@@ -191,18 +193,31 @@ double VehicleInputPipeline::toEstimatorTime(double stamp_s) {
 SampleFault VehicleInputPipeline::addImu(double stamp_s, const std::array<double, 3>& f, const std::array<double, 3>& w) {
   restartIfPending();
   ++counters_.imu;
-  const double t = toEstimatorTime(stamp_s);
+  toEstimatorTime(stamp_s);
   if (!imu_mounted_) {
     ++counters_.imu_without_mount;
     return SampleFault::kNone;
   }
-  return estimator_->addImu(t, f[0], f[1], f[2], w[0], w[1], w[2]);
+  const HeldImu sample{stamp_s, f, w};
+  if (!config_.input_time)
+    return estimator_->addImu(toEstimatorTime(stamp_s), f[0], f[1], f[2], w[0], w[1], w[2]);
+  if (held_imu_.full()) {
+    applyImu(held_imu_.oldest());
+    held_imu_.pop();
+  }
+  held_imu_.push(sample);
+  return SampleFault::kNone;
+}
+
+void VehicleInputPipeline::applyImu(const HeldImu& s) {
+  estimator_->addImu(toEstimatorTime(s.stamp_s), s.f[0], s.f[1], s.f[2], s.w[0], s.w[1], s.w[2]);
 }
 
 void VehicleInputPipeline::addJoints(double stamp_s, const std::vector<std::string>& names,
                                      const std::vector<double>& position, const std::vector<double>& velocity) {
   restartIfPending();
   ++counters_.joints;
+  toEstimatorTime(stamp_s);
   if (names != joint_names_) {  // a new layout (the first message): allocates, once
     joint_names_ = names;
     joint_index_.assign(names.size(), -1);
@@ -212,52 +227,66 @@ void VehicleInputPipeline::addJoints(double stamp_s, const std::vector<std::stri
         if (names[k] == config_.wheel_joints[static_cast<std::size_t>(i)]) joint_index_[k] = i;
     }
   }
-  const double t = toEstimatorTime(stamp_s);
-  std::array<double, kWheelCount> omega;
-  omega.fill(kNaN);
+  HeldJoints sample;
+  sample.stamp_s = stamp_s;
+  sample.omega.fill(kNaN);
   int found = 0;
-  bool steering = false;
-  double steering_angle = 0.0;
   for (std::size_t k = 0; k < names.size(); ++k) {
     const int i = joint_index_[k];
     if (i == kWheelCount && k < position.size()) {
-      steering = true;
-      steering_angle = position[k];
+      sample.steering = true;
+      sample.steering_angle_rad = position[k];
     } else if (i >= 0 && i < kWheelCount && k < velocity.size()) {
-      omega[static_cast<std::size_t>(i)] = config_.wheel_velocity_signs[static_cast<std::size_t>(i)] * velocity[k];
+      sample.omega[static_cast<std::size_t>(i)] =
+          config_.wheel_velocity_signs[static_cast<std::size_t>(i)] * velocity[k];
       ++found;
     }
   }
   if (found < kWheelCount) ++counters_.joints_without_wheels;
-  if (found > 0 && config_.use_wheel_speeds) estimator_->addWheelSpeeds(t, omega);
-  if (steering)
-    estimator_->addSteering(t, steering_angle);
-  else
-    ++counters_.joints_without_steering;
+  if (!sample.steering) ++counters_.joints_without_steering;
+  sample.wheels = found > 0 && config_.use_wheel_speeds;
+  if (!config_.input_time) {
+    applyJoints(sample);
+    return;
+  }
+  if (held_joints_.full()) {
+    applyJoints(held_joints_.oldest());
+    held_joints_.pop();
+  }
+  held_joints_.push(sample);
+}
+
+void VehicleInputPipeline::applyJoints(const HeldJoints& s) {
+  const double t = toEstimatorTime(s.stamp_s);
+  if (s.wheels) estimator_->addWheelSpeeds(t, s.omega);
+  if (s.steering) estimator_->addSteering(t, s.steering_angle_rad);
 }
 
 SampleFault VehicleInputPipeline::addSpeed(double stamp_s, double v_x_mps, double v_y_mps) {
   restartIfPending();
   ++counters_.speed;
-  const double speed = referenceSpeed(config_.speed_rule, v_x_mps, v_y_mps);
-  if (!config_.input_time) return estimator_->addSpeed(toEstimatorTime(stamp_s), speed);
-  if (held_count_ == kHeldSpeeds) {  // more than the buffer behind: the oldest enters now
-    estimator_->addSpeed(toEstimatorTime(held_speeds_[held_first_].stamp_s), held_speeds_[held_first_].speed_mps);
-    held_first_ = (held_first_ + 1) % kHeldSpeeds;
-    --held_count_;
+  toEstimatorTime(stamp_s);
+  const HeldSpeed sample{stamp_s, referenceSpeed(config_.speed_rule, v_x_mps, v_y_mps)};
+  if (!config_.input_time) return estimator_->addSpeed(toEstimatorTime(stamp_s), sample.speed_mps);
+  if (held_speeds_.full()) {
+    applySpeed(held_speeds_.oldest());
+    held_speeds_.pop();
   }
-  held_speeds_[(held_first_ + held_count_) % kHeldSpeeds] = {stamp_s, speed};
-  ++held_count_;
+  held_speeds_.push(sample);
   return SampleFault::kNone;
 }
 
-void VehicleInputPipeline::releaseSpeeds(double t_s) {
-  while (held_count_ > 0 &&
-         held_speeds_[held_first_].stamp_s + config_.speed_delivery_s <= t_s + kGridTolerance_s) {
-    estimator_->addSpeed(toEstimatorTime(held_speeds_[held_first_].stamp_s), held_speeds_[held_first_].speed_mps);
-    held_first_ = (held_first_ + 1) % kHeldSpeeds;
-    --held_count_;
-  }
+void VehicleInputPipeline::applySpeed(const HeldSpeed& s) {
+  estimator_->addSpeed(toEstimatorTime(s.stamp_s), s.speed_mps);
+}
+
+void VehicleInputPipeline::releaseHeld(double t_s) {
+  const double due_s = t_s + kGridTolerance_s;
+  for (; held_imu_.count > 0 && held_imu_.oldest().stamp_s <= due_s; held_imu_.pop()) applyImu(held_imu_.oldest());
+  for (; held_joints_.count > 0 && held_joints_.oldest().stamp_s <= due_s; held_joints_.pop())
+    applyJoints(held_joints_.oldest());
+  for (; held_speeds_.count > 0 && held_speeds_.oldest().stamp_s + config_.input_delay_s <= due_s; held_speeds_.pop())
+    applySpeed(held_speeds_.oldest());
 }
 
 bool VehicleInputPipeline::cycle(double t_s) {
@@ -271,20 +300,39 @@ bool VehicleInputPipeline::cycle(double t_s) {
   return true;
 }
 
-bool VehicleInputPipeline::startGrid(double stamp_s) {
+bool VehicleInputPipeline::startGrid(InputStream stream, double stamp_s) {
   if (!std::isfinite(stamp_s)) return false;
   if (grid_started_ && stamp_s < gridTime(next_cycle_ - 1) - config_.estimator.max_step_s) {
     grid_started_ = false;  // a looped bag: a new grid, and a new estimator with the learned radii
-    held_count_ = 0;
+    held_imu_.count = held_joints_.count = held_speeds_.count = 0;
+    stream_seen_.fill(false);
     restart_pending_ = true;
     restartIfPending();
   }
   toEstimatorTime(stamp_s);  // the epoch from the first stamp that starts a grid, if none before
   if (!grid_started_) {
     next_cycle_ = static_cast<std::int64_t>(std::ceil(stamp_s * config_.publish_rate_hz - 1e-6));
+    grid_start_s_ = stamp_s;
     grid_started_ = true;
   }
+  const auto s = static_cast<std::size_t>(stream);
+  stream_newest_s_[s] = stream_seen_[s] ? std::max(stream_newest_s_[s], stamp_s) : stamp_s;
+  stream_seen_[s] = true;
   return true;
+}
+
+double VehicleInputPipeline::cycleHorizon_s() const {
+  // A stream not seen yet counts as at the grid's start: it is waited for as long as a silent one.
+  double newest = grid_start_s_;
+  for (int s = 0; s < kInputStreamCount; ++s)
+    if (stream_seen_[static_cast<std::size_t>(s)]) newest = std::max(newest, stream_newest_s_[static_cast<std::size_t>(s)]);
+  double horizon = newest;
+  for (int s = 0; s < kInputStreamCount; ++s) {
+    const auto us = static_cast<std::size_t>(s);
+    const double stream_s = stream_seen_[us] ? stream_newest_s_[us] : grid_start_s_;
+    if (stream_s >= newest - config_.input_delay_s) horizon = std::min(horizon, stream_s);
+  }
+  return horizon;
 }
 
 }  // namespace tread_wear

@@ -122,7 +122,7 @@ bool readVehicleInputsConfig(const ConfigValue& doc, VehicleInputsConfig* config
   const bool ok =
       read(doc, "publish_rate_hz", &c.publish_rate_hz, error) && read(doc, "input_time", &c.input_time, error) &&
       read(doc, "speed_source", &c.speed_source, error) && readSpeedRule(doc, &c.speed_rule, error) &&
-      read(doc, "speed_delivery_s", &c.speed_delivery_s, error) &&
+      read(doc, "input_delay_s", &c.input_delay_s, error) &&
       read(doc, "base_frame", &c.base_frame, error) && read(doc, "cog_position_m", &c.cog_position_m, error) &&
       read(doc, "wheel_names", &c.wheel_names, error) && read(doc, "wheel_joints", &c.wheel_joints, error) &&
       read(doc, "wheel_frames", &c.wheel_frames, error) &&

@@ -164,7 +164,8 @@ void fillInputQuality(const VehicleInputEstimate& e, int wheel, bool published, 
 }
 
 void publishWheelInputs(const VehicleInputEstimate& estimate, const ros::Time& now,
-                        std::array<VehicleInputPublishers, kWheelCount>* publishers, CycleStats* stats) {
+                        std::array<VehicleInputPublishers, kWheelCount>* publishers, CycleStats* stats,
+                        bool wait_for_slot) {
   if (!estimate.valid) ++stats->invalid_cycles;
   for (int i = 0; i < kWheelCount; ++i) {
     const bool publish = wheelPublishable(estimate, i);
@@ -173,7 +174,7 @@ void publishWheelInputs(const VehicleInputEstimate& estimate, const ros::Time& n
     bool published = false;
     if (publish) {
       published = true;
-      if (p.load->trylock()) {
+      if (wait_for_slot ? p.load->lock() : p.load->trylock()) {
         p.load->msg().header.stamp = now;
         p.load->msg().load_n = w.load_n;
         p.load->unlockAndPublish();
@@ -181,7 +182,7 @@ void publishWheelInputs(const VehicleInputEstimate& estimate, const ros::Time& n
         ++stats->skipped_publications;
         published = false;
       }
-      if (p.slip->trylock()) {
+      if (wait_for_slot ? p.slip->lock() : p.slip->trylock()) {
         p.slip->msg().header.stamp = now;
         p.slip->msg().slip_angle_rad = w.slip_angle_rad;
         p.slip->msg().slip_ratio = w.slip_ratio;
@@ -191,7 +192,7 @@ void publishWheelInputs(const VehicleInputEstimate& estimate, const ros::Time& n
         ++stats->skipped_publications;
         published = false;
       }
-      if (p.speed->trylock()) {
+      if (wait_for_slot ? p.speed->lock() : p.speed->trylock()) {
         p.speed->msg().header.stamp = now;
         p.speed->msg().speed_mps = w.speed_mps;
         p.speed->unlockAndPublish();
@@ -203,7 +204,7 @@ void publishWheelInputs(const VehicleInputEstimate& estimate, const ros::Time& n
     } else {
       ++stats->withheld[static_cast<std::size_t>(i)];
     }
-    if (p.quality->trylock()) {
+    if (wait_for_slot ? p.quality->lock() : p.quality->trylock()) {
       p.quality->msg().header.stamp = now;
       fillInputQuality(estimate, i, published, &p.quality->msg());
       p.quality->unlockAndPublish();
@@ -264,12 +265,14 @@ bool VehicleInputsNode::initialize() {
     p.quality->msg().wheel = config_.wheel_names[i];
   }
   const ros::TransportHints hints = ros::TransportHints().tcpNoDelay();
-  imu_sub_ = nh_.subscribe("imu", 50, &VehicleInputsNode::imuCallback, this, hints);
-  joint_sub_ = nh_.subscribe("joint_states", 50, &VehicleInputsNode::jointCallback, this, hints);
+  // In input time every sample counts (a dropped one changes the result): keep a backlog of a fast replay.
+  const std::uint32_t queue = config_.input_time ? 10000 : 50;
+  imu_sub_ = nh_.subscribe("imu", queue, &VehicleInputsNode::imuCallback, this, hints);
+  joint_sub_ = nh_.subscribe("joint_states", queue, &VehicleInputsNode::jointCallback, this, hints);
   if (config_.speed_source == "odom")
-    speed_sub_ = nh_.subscribe("odom", 20, &VehicleInputsNode::odomCallback, this, hints);
+    speed_sub_ = nh_.subscribe("odom", queue, &VehicleInputsNode::odomCallback, this, hints);
   else
-    speed_sub_ = nh_.subscribe("speed", 20, &VehicleInputsNode::twistCallback, this, hints);
+    speed_sub_ = nh_.subscribe("speed", queue, &VehicleInputsNode::twistCallback, this, hints);
 
   updater_ = std::make_unique<diagnostic_updater::Updater>(nh_, pnh_);
   updater_->setHardwareID("vehicle_inputs");
@@ -353,17 +356,17 @@ bool VehicleInputsNode::imuTransform(const std::string& frame_id) {
   return true;
 }
 
-void VehicleInputsNode::inputTimeCycles(const ros::Time& stamp) {
+void VehicleInputsNode::inputTimeCycles(InputStream stream, const ros::Time& stamp) {
   if (!config_.input_time) return;
-  pipeline_->cyclesBefore(stamp.toSec(), [this](double t_s) {
+  pipeline_->cyclesBefore(stream, stamp.toSec(), [this](double t_s) {
     const ros::Time cycle_stamp(t_s);
-    publishWheelInputs(pipeline_->estimate(), cycle_stamp, &publishers_, &stats_);
+    publishWheelInputs(pipeline_->estimate(), cycle_stamp, &publishers_, &stats_, true);
     ++stats_.cycles;
   });
 }
 
 void VehicleInputsNode::imuCallback(const sensor_msgs::Imu::ConstPtr& msg) {
-  inputTimeCycles(msg->header.stamp);
+  inputTimeCycles(InputStream::kImu, msg->header.stamp);
   ++imu_received_;
   if (!imuTransform(msg->header.frame_id)) {
     ++imu_without_tf_;
@@ -375,7 +378,7 @@ void VehicleInputsNode::imuCallback(const sensor_msgs::Imu::ConstPtr& msg) {
 }
 
 void VehicleInputsNode::jointCallback(const sensor_msgs::JointState::ConstPtr& msg) {
-  inputTimeCycles(msg->header.stamp);
+  inputTimeCycles(InputStream::kJoints, msg->header.stamp);
   pipeline_->addJoints(msg->header.stamp.toSec(), msg->name, msg->position, msg->velocity);
 }
 

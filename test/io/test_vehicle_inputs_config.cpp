@@ -54,7 +54,7 @@ TEST(VehicleInputsConfigFile, TheShippedFileGivesTheDocumentedDefaults) {
   EXPECT_FALSE(c.input_time);
   EXPECT_EQ(c.speed_source, "odom");
   EXPECT_EQ(c.speed_rule, SpeedRule::kPlanarNorm);
-  EXPECT_EQ(c.speed_delivery_s, 0.1);
+  EXPECT_EQ(c.input_delay_s, 0.2);
   EXPECT_TRUE(c.use_wheel_speeds);
   EXPECT_EQ(c.wheel_joints[3], "wheel_rear_right_joint");
   EXPECT_EQ(c.steering_joint, "steering_wheel_joint");
@@ -119,8 +119,8 @@ TEST(VehicleInputsConfigFile, EveryBadValueIsNamed) {
   d.map["publish_rate_hz"] = number(0);
   EXPECT_EQ(errorOf(d), "publish_rate_hz = 0: must be in (0, 1000] [Hz]");
   d = document();
-  d.map["speed_delivery_s"] = number(2);
-  EXPECT_EQ(errorOf(d), "speed_delivery_s = 2: must be in [0, 1] [s]");
+  d.map["input_delay_s"] = number(2);
+  EXPECT_EQ(errorOf(d), "input_delay_s = 2: must be in [0, 1] [s]");
   d = document();
   ConfigValue three;
   three.type = ConfigValue::Type::kList;

@@ -178,8 +178,11 @@ TEST(VehicleInputsBagPlay, TheNodeGivesTheToolsPerWheelInputsOnTheSameBag) {
                         << b.slip_angle_rad << " " << b.slip_ratio << " " << b.speed_mps;
       }
     }
-    std::printf("%s: %zu stamps compared, %zu different, %zu incomplete, tool %zu\n", kNames[i].c_str(), compared,
-                different, incomplete, tool[i].size());
+    std::printf("%s: %zu stamps compared, %zu different, %zu incomplete, tool %zu (%.2f to %.2f s), node %.2f to "
+                "%.2f s\n",
+                kNames[i].c_str(), compared, different, incomplete, tool[i].size(), tool[i].begin()->first.toSec(),
+                tool[i].rbegin()->first.toSec(), node[i].empty() ? 0.0 : node[i].begin()->first.toSec(),
+                node[i].empty() ? 0.0 : node[i].rbegin()->first.toSec());
     EXPECT_EQ(different, 0u);
     // Every cycle but the tool's last (its end of data) reaches the node; allow a few skipped publications.
     EXPECT_GE(compared + 10, tool[i].size() - 1);

@@ -246,6 +246,10 @@ class VehicleInputEstimator {
   std::uint64_t clockFaults() const { return clock_faults_; }
   std::uint64_t gatedWheelUpdates() const { return gated_wheel_updates_; }
 
+  /// A new IMU mount (imu_mount_rpy_rad, imu_position_m of the params), e.g. once its transform is known; the state
+  /// goes on. false (unchanged) for a non-finite value or an angle outside [-pi, pi].
+  bool setImuMount(const std::array<double, 3>& rpy_rad, const std::array<double, 3>& position_m);
+
   /// Rolling radii with their learned distance, to persist; restore at start-up (false: rejected, unchanged).
   const std::array<RollingRadiusState, kWheelCount>& rollingRadii() const { return learner_.state(); }
   bool restoreRollingRadii(const std::array<RollingRadiusState, kWheelCount>& state) { return learner_.restore(state); }

@@ -7,16 +7,19 @@
 ///                  estimator's parameters; one defaults table, one validate(), read from the same YAML file by
 ///                  both (io/vehicle_inputs_config.h: the node through the parameter server, the tool from the file);
 ///   intake         every sample at its header stamp (never its arrival): IMU in its own axes with its mount in
-///                  base_frame, joint states by name with their signs, the reference speed by the speed rule (in
-///                  input time held until the first cycle at or after its stamp + speed_delivery_s, so that the
-///                  cycle it enters depends on its stamp, not on when it came);
+///                  base_frame, joint states by name with their signs, the reference speed by the speed rule. In
+///                  input time each is held for its cycle, so that the cycle it enters depends on its stamp, not on
+///                  when it came: IMU and joint states until the first cycle at or after their stamp, the
+///                  reference speed until the first at or after its stamp + input_delay_s;
 ///   fallbacks      VehicleInputEstimator's (estimation/vehicle_input_estimator.h), and a restart with the learned
 ///                  radii when the clock goes backwards;
 ///   the cycle      cycle(t) at a time the driver chooses (the node's timer), or in input time
 ///                  (cyclesBefore/cyclesThrough): on a grid of the publish period in the samples' own stamps, a cycle
-///                  at t once an IMU or joint-states sample stamped after t has come. Input time depends on the data
-///                  only, not on when or in which order the topics arrive, so that a bag played to the node and the
-///                  same bag read by the tool give identical per-wheel inputs (test/ros/vehicle_inputs_bag.test);
+///                  at t once the IMU and the joint states have each delivered a sample stamped after t (a stream
+///                  silent for input_delay_s behind the other is not waited for). Input time depends on the data
+///                  only, not on when or in which order the topics arrive (within input_delay_s), so that a bag played
+///                  to the node and the same bag read by the tool give identical per-wheel inputs
+///                  (test/ros/vehicle_inputs_bag.test);
 ///   the quality    per wheel: publishable or not, with the record of how each quantity was estimated.
 ///
 /// Reference speed rule. The estimator takes the reference speed as the CoG's speed over ground, |v| = v_x with
@@ -29,7 +32,7 @@
 /// source whose lateral component is noise.
 ///
 /// Threads: none of its own; not thread-safe (a driver calls it from one thread). Intake and the cycle allocate
-/// nothing and never log (setImuMount and a restart rebuild the estimator: they allocate).
+/// nothing and never log (a restart rebuilds the estimator: it allocates).
 
 #include <array>
 #include <cmath>
@@ -62,9 +65,10 @@ struct VehicleInputsConfig {
   std::string speed_source = "odom";       ///< reference speed: "odom" (nav_msgs/Odometry on `odom`) or "twist"
                                            ///< (geometry_msgs/TwistWithCovarianceStamped on `speed`)
   SpeedRule speed_rule = SpeedRule::kPlanarNorm;  ///< how its twist becomes a speed (see the file comment)
-  double speed_delivery_s = 0.1;           ///< input time: a reference speed stamped s enters the first cycle at or
-                                           ///< after s + this, the bound of its delivery delay behind the IMU and
-                                           ///< joint states (odometry and GNSS come late) [s], [0, 1]
+  double input_delay_s = 0.2;              ///< input time: the bound of a sample's delivery delay behind the newest
+                                           ///< IMU or joint states [s], [0, 1]: a reference speed stamped s enters
+                                           ///< the first cycle at or after s + this (odometry and GNSS come late),
+                                           ///< and the cycles wait no longer than this for a silent stream
   std::string base_frame = "base_link";    ///< body frame (REP-103: x forward, y left, z up)
   std::array<double, 3> cog_position_m{{0.0, 0.0, 0.55}};  ///< CoG in base_frame [m] (default z = cog_height_m)
   bool cog_position_set = false;           ///< cog_position_m given (else z = the vehicle's h)
@@ -111,6 +115,10 @@ WheelInputQualityRecord inputQuality(const VehicleInputEstimate& estimate, int w
 /// and finite, speed and curvature finite) and the estimate as a whole is valid.
 bool wheelPublishable(const VehicleInputEstimate& estimate, int wheel);
 
+/// The streams whose stamps drive the cycles in input time.
+enum class InputStream : std::uint8_t { kImu = 0, kJoints = 1 };
+constexpr int kInputStreamCount = 2;
+
 /// What the intake saw, for diagnostics [-].
 struct IntakeCounters {
   std::uint64_t imu = 0, imu_without_mount = 0;
@@ -128,9 +136,9 @@ class VehicleInputPipeline {
   const VehicleInputsConfig& config() const { return config_; }
 
   /// The IMU's mount in base_frame: rotation IMU -> base_frame (quaternion x, y, z, w) and the IMU origin [m]; the
-  /// lever arm is origin - cog_position_m. A change rebuilds the estimator with the learned radii (allocates).
-  /// Without a mount the IMU is not used (counted), never taken as identity. false for a non-finite or zero
-  /// quaternion or a non-finite origin (mount unchanged).
+  /// lever arm is origin - cog_position_m. The estimator goes on with its state (no sample is lost when the mount
+  /// comes after the first samples). Without a mount the IMU is not used (counted), never taken as identity. false
+  /// for a non-finite or zero quaternion or a non-finite origin (mount unchanged).
   bool setImuMount(const std::array<double, 4>& rotation_xyzw, const std::array<double, 3>& origin_m);
   bool imuMounted() const { return imu_mounted_; }
 
@@ -148,23 +156,17 @@ class VehicleInputPipeline {
   /// The cycle on the driver's clock: estimates at t_s [s] (the source's clock). false for a backward or non-finite
   /// time: counted, and the next intake restarts the estimator with the learned radii.
   bool cycle(double t_s);
-  /// Input time: every cycle of the grid due before a sample stamped stamp_s [s] (a driver calls it before it hands
-  /// over an IMU or joint-states sample), on_cycle(t_s) after each. A stamp more than max_step_s behind the last
-  /// cycle (a looped bag) restarts the grid and the estimator.
+  /// Input time: a driver calls it before it hands over an IMU or joint-states sample stamped stamp_s [s]; every
+  /// cycle of the grid that is then due runs (each stream past it), on_cycle(t_s) after each. A stamp more than
+  /// max_step_s behind the last cycle (a looped bag) restarts the grid and the estimator.
   template <class OnCycle>
-  void cyclesBefore(double stamp_s, OnCycle&& on_cycle) {
-    if (!startGrid(stamp_s)) return;
-    for (double t = gridTime(next_cycle_); t < stamp_s - kGridTolerance_s; t = gridTime(next_cycle_)) {
-      ++next_cycle_;
-      releaseSpeeds(t);
-      cycle(t);
-      on_cycle(t);
-    }
+  void cyclesBefore(InputStream stream, double stamp_s, OnCycle&& on_cycle) {
+    if (startGrid(stream, stamp_s)) runCycles(cycleHorizon_s(), on_cycle);
   }
-  /// Input time at the end of the data: every cycle due up to and including stamp_s [s].
+  /// Input time at the end of the data: every cycle up to and including stamp_s [s].
   template <class OnCycle>
   void cyclesThrough(double stamp_s, OnCycle&& on_cycle) {
-    cyclesBefore(stamp_s + 2.0 * kGridTolerance_s, on_cycle);
+    if (grid_started_) runCycles(stamp_s + 2.0 * kGridTolerance_s, on_cycle);
   }
 
   /// The last cycle's estimate, its time [s] on the source's clock, and per wheel what a driver publishes.
@@ -186,13 +188,50 @@ class VehicleInputPipeline {
   double toEstimatorTime(double stamp_s);
   void rebuildEstimator();
   void restartIfPending();
-  bool startGrid(double stamp_s);
-  /// Input time: the held reference speeds due at a cycle at t_s (stamp + speed_delivery_s <= t_s) into the estimator.
-  void releaseSpeeds(double t_s);
+  bool startGrid(InputStream stream, double stamp_s);
+  /// The grid runs up to (not including) the oldest newest stamp of the streams still delivering [s].
+  double cycleHorizon_s() const;
+  template <class OnCycle>
+  void runCycles(double horizon_s, OnCycle&& on_cycle) {
+    for (double t = gridTime(next_cycle_); t < horizon_s - kGridTolerance_s; t = gridTime(next_cycle_)) {
+      ++next_cycle_;
+      releaseHeld(t);
+      cycle(t);
+      on_cycle(t);
+    }
+  }
+  /// Input time: into the estimator before the cycle at t_s, the held IMU and joint-states samples stamped at or
+  /// before t_s and the reference speeds stamped at or before t_s - input_delay_s.
+  void releaseHeld(double t_s);
+  struct HeldImu {
+    double stamp_s = 0.0;
+    std::array<double, 3> f{}, w{};
+  };
+  struct HeldJoints {
+    double stamp_s = 0.0;
+    std::array<double, kWheelCount> omega{};
+    bool wheels = false, steering = false;
+    double steering_angle_rad = 0.0;
+  };
   struct HeldSpeed {
     double stamp_s = 0.0, speed_mps = 0.0;
   };
-  static constexpr std::size_t kHeldSpeeds = 64;  ///< input time: reference speeds held at most [-]
+  /// A fixed ring of samples held in input time (full: the oldest is handed on at once).
+  template <class Sample, std::size_t N>
+  struct Held {
+    std::array<Sample, N> ring{};
+    std::size_t first = 0, count = 0;
+    bool full() const { return count == N; }
+    const Sample& oldest() const { return ring[first]; }
+    void push(const Sample& s) { ring[(first + count++) % N] = s; }
+    void pop() {
+      first = (first + 1) % N;
+      --count;
+    }
+  };
+  void applyImu(const HeldImu& s);
+  void applyJoints(const HeldJoints& s);
+  void applySpeed(const HeldSpeed& s);
   double gridTime(std::int64_t index) const { return static_cast<double>(index) / config_.publish_rate_hz; }
 
   VehicleInputsConfig config_;
@@ -205,8 +244,12 @@ class VehicleInputPipeline {
   bool restart_pending_ = false;
   bool grid_started_ = false;
   std::int64_t next_cycle_ = 0;  ///< input time: index of the next cycle on the grid k / publish_rate_hz
-  std::array<HeldSpeed, kHeldSpeeds> held_speeds_{};  ///< ring buffer, oldest at held_first_
-  std::size_t held_first_ = 0, held_count_ = 0;
+  double grid_start_s_ = 0.0;     ///< input time: stamp that started the grid [s]
+  std::array<bool, kInputStreamCount> stream_seen_{};
+  std::array<double, kInputStreamCount> stream_newest_s_{};  ///< input time: newest stamp per stream [s]
+  Held<HeldImu, 512> held_imu_;        ///< input time: 0.5 s at 1 kHz
+  Held<HeldJoints, 512> held_joints_;
+  Held<HeldSpeed, 64> held_speeds_;
   std::vector<int> joint_index_;  ///< per name of the last joint-states layout: wheel 0..3, 4 steering, -1 none
   std::vector<std::string> joint_names_;  ///< that layout
   IntakeCounters counters_;

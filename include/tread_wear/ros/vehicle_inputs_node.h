@@ -82,9 +82,11 @@ struct VehicleInputPublishers {
 
 /// The publication step of the cycle: per wheel, load/slip/speed when wheelPublishable() (else none), and always the
 /// quality message, stamped `now`; counts published, withheld and skipped (publisher busy) in *stats. Allocates
-/// nothing, logs nothing, never blocks (try_lock hand-over).
+/// nothing, logs nothing, never blocks (try_lock hand-over); with wait_for_slot (input time, off the real-time path,
+/// where a skipped message would be a lost cycle) it waits for each publisher instead.
 void publishWheelInputs(const VehicleInputEstimate& estimate, const ros::Time& now,
-                        std::array<VehicleInputPublishers, kWheelCount>* publishers, CycleStats* stats);
+                        std::array<VehicleInputPublishers, kWheelCount>* publishers, CycleStats* stats,
+                        bool wait_for_slot = false);
 
 class VehicleInputsNode {
  public:
@@ -99,7 +101,7 @@ class VehicleInputsNode {
  private:
   bool imuTransform(const std::string& frame_id);
   /// Input time: the cycles due before a sample stamped `stamp`, each published at its own time.
-  void inputTimeCycles(const ros::Time& stamp);
+  void inputTimeCycles(InputStream stream, const ros::Time& stamp);
   void imuCallback(const sensor_msgs::Imu::ConstPtr& msg);
   void jointCallback(const sensor_msgs::JointState::ConstPtr& msg);
   void odomCallback(const nav_msgs::Odometry::ConstPtr& msg);

@@ -263,19 +263,21 @@ void feedSensors(rosbag::Bag& in, const SensorTopics& topics, VehicleInputPipeli
       const auto imu = m.instantiate<sensor_msgs::Imu>();
       if (!imu) continue;
       ++result->imu_messages;
-      last_stamp = imu->header.stamp.toSec();
+      const double stamp = imu->header.stamp.toSec();
+      last_stamp = any ? std::max(last_stamp, stamp) : stamp;
       any = true;
-      pipeline->cyclesBefore(last_stamp, *writer);
-      pipeline->addImu(last_stamp, {{imu->linear_acceleration.x, imu->linear_acceleration.y, imu->linear_acceleration.z}},
+      pipeline->cyclesBefore(InputStream::kImu, stamp, *writer);
+      pipeline->addImu(stamp, {{imu->linear_acceleration.x, imu->linear_acceleration.y, imu->linear_acceleration.z}},
                        {{imu->angular_velocity.x, imu->angular_velocity.y, imu->angular_velocity.z}});
     } else if (m.getTopic() == topics.joints) {
       const auto js = m.instantiate<sensor_msgs::JointState>();
       if (!js) continue;
       ++result->joint_state_messages;
-      last_stamp = js->header.stamp.toSec();
+      const double stamp = js->header.stamp.toSec();
+      last_stamp = any ? std::max(last_stamp, stamp) : stamp;
       any = true;
-      pipeline->cyclesBefore(last_stamp, *writer);
-      pipeline->addJoints(last_stamp, js->name, js->position, js->velocity);
+      pipeline->cyclesBefore(InputStream::kJoints, stamp, *writer);
+      pipeline->addJoints(stamp, js->name, js->position, js->velocity);
     } else {
       const auto odom = m.instantiate<nav_msgs::Odometry>();
       if (!odom) continue;
