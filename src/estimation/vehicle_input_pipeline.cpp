@@ -268,6 +268,8 @@ SampleFault VehicleInputPipeline::addSpeed(double stamp_s, double v_x_mps, doubl
   toEstimatorTime(stamp_s);
   const HeldSpeed sample{stamp_s, referenceSpeed(config_.speed_rule, v_x_mps, v_y_mps)};
   if (!config_.input_time) return estimator_->addSpeed(toEstimatorTime(stamp_s), sample.speed_mps);
+  speed_newest_s_ = speed_seen_ ? std::max(speed_newest_s_, stamp_s) : stamp_s;
+  speed_seen_ = true;
   if (held_speeds_.full()) {
     applySpeed(held_speeds_.oldest());
     held_speeds_.pop();
@@ -306,6 +308,7 @@ bool VehicleInputPipeline::startGrid(InputStream stream, double stamp_s) {
     grid_started_ = false;  // a looped bag: a new grid, and a new estimator with the learned radii
     held_imu_.count = held_joints_.count = held_speeds_.count = 0;
     stream_seen_.fill(false);
+    speed_seen_ = false;
     restart_pending_ = true;
     restartIfPending();
   }
@@ -321,18 +324,25 @@ bool VehicleInputPipeline::startGrid(InputStream stream, double stamp_s) {
   return true;
 }
 
-double VehicleInputPipeline::cycleHorizon_s() const {
+bool VehicleInputPipeline::cycleDue(double t_s) const {
   // A stream not seen yet counts as at the grid's start: it is waited for as long as a silent one.
   double newest = grid_start_s_;
   for (int s = 0; s < kInputStreamCount; ++s)
     if (stream_seen_[static_cast<std::size_t>(s)]) newest = std::max(newest, stream_newest_s_[static_cast<std::size_t>(s)]);
-  double horizon = newest;
+  const double live_s = newest - config_.input_delay_s;  // a stream behind this is silent
   for (int s = 0; s < kInputStreamCount; ++s) {
     const auto us = static_cast<std::size_t>(s);
     const double stream_s = stream_seen_[us] ? stream_newest_s_[us] : grid_start_s_;
-    if (stream_s >= newest - config_.input_delay_s) horizon = std::min(horizon, stream_s);
+    if (stream_s >= live_s && t_s >= stream_s - kGridTolerance_s) return false;  // its samples at t_s may follow
   }
-  return horizon;
+  // The reference speed: every sample up to t_s - input_delay_s has come once one stamped there has (one not seen
+  // yet might be stamped at the grid's start).
+  if (!speed_seen_) {
+    const double first_due_s = grid_start_s_ + config_.input_delay_s;
+    return !(first_due_s >= live_s && t_s >= first_due_s - kGridTolerance_s);
+  }
+  const double speed_s = speed_newest_s_ + config_.input_delay_s;
+  return !(speed_s >= live_s && t_s > speed_s + kGridTolerance_s);
 }
 
 }  // namespace tread_wear

@@ -1,7 +1,7 @@
 // The node and the tool are one front end (estimation/vehicle_input_pipeline.h): a sensor bag played with rosbag
 // play --clock to vehicle_inputs_node in input time gives, at every stamp the node publishes, exactly the per-wheel
 // inputs that tread_wear_vehicle_inputs wrote from the same bag with the same configuration file
-// (test/ros/vehicle_inputs_bag.test). The test writes the bag (a 40 s drive with its sensors, as tread_wear_drive
+// (test/ros/vehicle_inputs_bag.test). The test writes the bag (a 30 s drive with its sensors, as tread_wear_drive
 // --sensors) and runs the tool on it in-process (runVehicleInputsCli with the shipped config/vehicle_inputs.yaml,
 // the file the launch loads into the node).
 #include <gtest/gtest.h>
@@ -75,15 +75,15 @@ InputsByStamp readToolBag(const std::string& path) {
   return table;
 }
 
-/// 40 s: standing, a launch to 16.7 m/s, cruising into a 2 m/s^2 left bend, braking to 8.3 m/s.
+/// 30 s: standing, a launch to 16.7 m/s, cruising through a 2 m/s^2 left bend, braking to 8.3 m/s.
 std::string writeSensorBag(const std::string& path) {
   using namespace tread_wear;
-  const SpeedProfile profile{{0, 2, 12, 25, 31, 40}, {0, 0, 16.7, 16.7, 8.3, 8.3}, {}, "node_vs_tool"};
-  const Route route{{{0.0, 200.0, 0.0, 0.0, -1},
-                     {200.0, 30.0, 0.0, 2.0 / 279.0, -1},
-                     {230.0, 100.0, 2.0 / 279.0, 2.0 / 279.0, -1},
-                     {330.0, 30.0, 2.0 / 279.0, 0.0, -1},
-                     {360.0, 1000.0, 0.0, 0.0, -1}},
+  const SpeedProfile profile{{0, 2, 10, 20, 25, 30}, {0, 0, 16.7, 16.7, 8.3, 8.3}, {}, "node_vs_tool"};
+  const Route route{{{0.0, 80.0, 0.0, 0.0, -1},
+                     {80.0, 30.0, 0.0, 2.0 / 279.0, -1},
+                     {110.0, 80.0, 2.0 / 279.0, 2.0 / 279.0, -1},
+                     {190.0, 30.0, 2.0 / 279.0, 0.0, -1},
+                     {220.0, 1000.0, 0.0, 0.0, -1}},
                     {}};
   DriveOptions options;
   options.sensors = true;
@@ -115,7 +115,7 @@ TEST(VehicleInputsBagPlay, TheNodeGivesTheToolsPerWheelInputsOnTheSameBag) {
   ASSERT_EQ(tread_wear::runVehicleInputsCli(static_cast<int>(argv.size()), argv.data(), kSource, out, err), 0)
       << err.str();
   const InputsByStamp tool = readToolBag(tool_bag);
-  ASSERT_GT(tool[0].size(), 3000u);  // 40 s at 100 Hz
+  ASSERT_EQ(tool[0].size(), 3001u);  // 30 s at 100 Hz, both ends
 
   std::mutex mutex;
   InputsByStamp node;
@@ -146,7 +146,7 @@ TEST(VehicleInputsBagPlay, TheNodeGivesTheToolsPerWheelInputsOnTheSameBag) {
   ASSERT_TRUE(ready) << "vehicle_inputs_node did not come up";
   const pid_t player = fork();
   if (player == 0) {
-    execl("/usr/lib/rosbag/play", "play", "--clock", "-q", "-d", "1", "-r", "2", sensor_bag.c_str(), "--topics",
+    execl("/usr/lib/rosbag/play", "play", "--clock", "-q", "-d", "1", "-r", "3", sensor_bag.c_str(), "--topics",
           "/imu", "/joint_states", "/odom", "/tf_static", static_cast<char*>(nullptr));
     _exit(127);
   }

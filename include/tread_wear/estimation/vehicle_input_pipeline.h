@@ -15,11 +15,11 @@
 ///                  radii when the clock goes backwards;
 ///   the cycle      cycle(t) at a time the driver chooses (the node's timer), or in input time
 ///                  (cyclesBefore/cyclesThrough): on a grid of the publish period in the samples' own stamps, a cycle
-///                  at t once the IMU and the joint states have each delivered a sample stamped after t (a stream
-///                  silent for input_delay_s behind the other is not waited for). Input time depends on the data
-///                  only, not on when or in which order the topics arrive (within input_delay_s), so that a bag played
-///                  to the node and the same bag read by the tool give identical per-wheel inputs
-///                  (test/ros/vehicle_inputs_bag.test);
+///                  at t once every sample it takes has come: the IMU and the joint states each past t, the reference
+///                  speed at or past t - input_delay_s (a stream silent for input_delay_s behind the others is not
+///                  waited for). Input time depends on the data only, not on when or in which order the topics
+///                  arrive, so that a bag played to the node and the same bag read by the tool give identical
+///                  per-wheel inputs (test/ros/vehicle_inputs_bag.test);
 ///   the quality    per wheel: publishable or not, with the record of how each quantity was estimated.
 ///
 /// Reference speed rule. The estimator takes the reference speed as the CoG's speed over ground, |v| = v_x with
@@ -161,12 +161,14 @@ class VehicleInputPipeline {
   /// max_step_s behind the last cycle (a looped bag) restarts the grid and the estimator.
   template <class OnCycle>
   void cyclesBefore(InputStream stream, double stamp_s, OnCycle&& on_cycle) {
-    if (startGrid(stream, stamp_s)) runCycles(cycleHorizon_s(), on_cycle);
+    if (!startGrid(stream, stamp_s)) return;
+    while (cycleDue(gridTime(next_cycle_))) runCycle(on_cycle);
   }
   /// Input time at the end of the data: every cycle up to and including stamp_s [s].
   template <class OnCycle>
   void cyclesThrough(double stamp_s, OnCycle&& on_cycle) {
-    if (grid_started_) runCycles(stamp_s + 2.0 * kGridTolerance_s, on_cycle);
+    if (!grid_started_) return;
+    while (gridTime(next_cycle_) <= stamp_s + kGridTolerance_s) runCycle(on_cycle);
   }
 
   /// The last cycle's estimate, its time [s] on the source's clock, and per wheel what a driver publishes.
@@ -189,16 +191,15 @@ class VehicleInputPipeline {
   void rebuildEstimator();
   void restartIfPending();
   bool startGrid(InputStream stream, double stamp_s);
-  /// The grid runs up to (not including) the oldest newest stamp of the streams still delivering [s].
-  double cycleHorizon_s() const;
+  /// Input time: every sample the cycle at t_s [s] takes has come: the IMU and the joint states each past t_s, the
+  /// reference speed at or past t_s - input_delay_s (a stream silent for input_delay_s is not waited for).
+  bool cycleDue(double t_s) const;
   template <class OnCycle>
-  void runCycles(double horizon_s, OnCycle&& on_cycle) {
-    for (double t = gridTime(next_cycle_); t < horizon_s - kGridTolerance_s; t = gridTime(next_cycle_)) {
-      ++next_cycle_;
-      releaseHeld(t);
-      cycle(t);
-      on_cycle(t);
-    }
+  void runCycle(OnCycle&& on_cycle) {
+    const double t = gridTime(next_cycle_++);
+    releaseHeld(t);
+    cycle(t);
+    on_cycle(t);
   }
   /// Input time: into the estimator before the cycle at t_s, the held IMU and joint-states samples stamped at or
   /// before t_s and the reference speeds stamped at or before t_s - input_delay_s.
@@ -247,6 +248,8 @@ class VehicleInputPipeline {
   double grid_start_s_ = 0.0;     ///< input time: stamp that started the grid [s]
   std::array<bool, kInputStreamCount> stream_seen_{};
   std::array<double, kInputStreamCount> stream_newest_s_{};  ///< input time: newest stamp per stream [s]
+  bool speed_seen_ = false;
+  double speed_newest_s_ = 0.0;   ///< input time: newest reference-speed stamp [s]
   Held<HeldImu, 512> held_imu_;        ///< input time: 0.5 s at 1 kHz
   Held<HeldJoints, 512> held_joints_;
   Held<HeldSpeed, 64> held_speeds_;
