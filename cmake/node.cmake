@@ -1,4 +1,4 @@
-# ROS layer: tread_wear_ros (node parts over model + estimation + io), tread_wear_ros_bag (rosbag records check,
+# ROS layer: tread_wear_ros (node parts over model + estimation + io + pipeline), tread_wear_ros_bag (rosbag records check,
 # drive and diagnosis bags) and the thin tread_wear_node main.
 # From here on, every target of this directory compiles against the package's headers (also on each module's
 # interface) and the ROS packages' headers (catkin_INCLUDE_DIRS; the ROS-free modules above do not). The headers
@@ -17,7 +17,7 @@ function(tread_wear_ros_module name)
   add_dependencies(${target} ${PROJECT_NAME}_generate_messages_cpp ${PROJECT_NAME}_gencfg)
 endfunction()
 
-tread_wear_ros_module(ros MODULES model estimation planning io)
+tread_wear_ros_module(ros MODULES model estimation planning io pipeline)
 # rosbag's own codecs, so that the bag check can decompress a chunk before rosbag parses it (checkBagRecords).
 find_package(BZip2 REQUIRED)
 find_package(roslz4 REQUIRED)

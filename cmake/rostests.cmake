@@ -41,6 +41,12 @@ add_dependencies(test_vehicle_inputs ${PROJECT_NAME}_generate_messages_cpp vehic
 set_target_properties(test_vehicle_inputs PROPERTIES EXCLUDE_FROM_ALL OFF)
 add_rostest(test/ros/vehicle_inputs_no_tf.test DEPENDENCIES test_vehicle_inputs)
 add_rostest(test/ros/vehicle_inputs_time_jump.test DEPENDENCIES test_vehicle_inputs)
+# The node and the tool on one bag (the test writes it and runs the tool in-process; rosbag play to the node).
+add_rostest_gtest(test_vehicle_inputs_bag_play test/ros/vehicle_inputs_bag.test test/ros/test_vehicle_inputs_bag_play.cpp)
+target_link_libraries(test_vehicle_inputs_bag_play ${PROJECT_NAME}_ros_bag ${catkin_LIBRARIES})
+target_compile_definitions(test_vehicle_inputs_bag_play PRIVATE TREAD_WEAR_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+add_dependencies(test_vehicle_inputs_bag_play ${PROJECT_NAME}_generate_messages_cpp vehicle_inputs_node)
+set_target_properties(test_vehicle_inputs_bag_play PROPERTIES EXCLUDE_FROM_ALL OFF)
 tread_wear_add_gtest(test_vehicle_inputs_parts ${PROJECT_SOURCE_DIR}/test/ros/test_vehicle_inputs_parts.cpp
                      ${PROJECT_NAME}_ros)
 # The planner at the vehicle level (evaluate_trajectories, wear_map) without a master.

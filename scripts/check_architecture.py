@@ -8,7 +8,8 @@ tread_wear_module(<name> MODULES ...)), so the map, the link lines and the inclu
   2. a module includes headers only of itself and of the modules it depends on, directly or through them;
   3. external libraries appear only in the modules that own them (ROS only in ros and ros/bag, yaml-cpp only in
      io, nlohmann_json only in io and report, Ceres only in fitting, SUNDIALS only in reference, Boost.Math only
-     in diagnosis);
+     in diagnosis); the package's generated message, service and reconfigure headers (tread_wear/<Name>.h) and the
+     ros:: namespace only in ros and ros/bag, so that a second middleware front end reuses every other module;
   4. no back door to yaml-cpp or nlohmann_json: their owners include them in sources only, never in a public
      header (which would hand the library to every includer), and no file outside the owners uses their
      namespaces (YAML::, nlohmann::) in code, however the declarations got there.
@@ -33,6 +34,8 @@ EXTERNAL_OWNERS = {
     "cvode/": {"reference"}, "nvector/": {"reference"}, "sunlinsol/": {"reference"}, "sunmatrix/": {"reference"},
     "sundials/": {"reference"}, "boost/math": {"diagnosis"}, "muParser": {"diagnosis"},
 }
+# The ROS front end's modules: the only ones that may include the generated headers or use ros::.
+ROS_MODULES = {"ros", "ros/bag"}
 # Libraries whose owners keep them out of their public headers, and the namespace that shows a use of each.
 PRIVATE_EXTERNALS = {"yaml-cpp/": "YAML::", "nlohmann/": "nlohmann::", "muParser": "mu::"}
 COMMENT = re.compile(r"//[^\n]*|/\*.*?\*/", re.S)
@@ -95,6 +98,8 @@ def main():
                                 f"{sorted(EXTERNAL_OWNERS[prefix])} (let them build or parse the document)")
         if own is None:
             continue
+        if own not in ROS_MODULES and re.search(r"(?<![\w:])ros::", code):
+            problems.append(f"{rel}: uses ros::, which belongs to {sorted(ROS_MODULES)}")
         may = closure(modules, own)
         for target in INCLUDE.findall(text):
             where = f"{rel}: includes {target}"
@@ -102,6 +107,8 @@ def main():
                 folder = target[len("tread_wear/"):].rsplit("/", 1)[0] if "/" in target[len("tread_wear/"):] else ""
                 if folder in modules and folder not in may:
                     problems.append(f"{where}, but module {own} may depend only on {sorted(may - {own})}")
+                elif not folder and own not in ROS_MODULES:
+                    problems.append(f"{where}, a generated ROS header, which belongs to {sorted(ROS_MODULES)}")
                 continue
             for prefix, owners in EXTERNAL_OWNERS.items():
                 if target.startswith(prefix) and own not in owners:

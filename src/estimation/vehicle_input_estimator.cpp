@@ -183,19 +183,28 @@ VehicleInputEstimatorParams checked(const VehicleInputEstimatorParams& params) {
 
 VehicleInputEstimator::VehicleInputEstimator(const VehicleInputEstimatorParams& params)
     : params_(checked(params)), observer_(params_.observer), learner_(params_.radius_learner, params_.wheel_radius_m) {
-  const double cr = std::cos(params_.imu_mount_rpy_rad[0]), sr = std::sin(params_.imu_mount_rpy_rad[0]);
-  const double cp = std::cos(params_.imu_mount_rpy_rad[1]), sp = std::sin(params_.imu_mount_rpy_rad[1]);
-  const double cy = std::cos(params_.imu_mount_rpy_rad[2]), sy = std::sin(params_.imu_mount_rpy_rad[2]);
-  // R_m = Rz(yaw) Ry(pitch) Rx(roll), row-major.
-  mount_ = {cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr,
-            sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr,
-            -sp,     cp * sr,                cp * cr};
+  setImuMount(params_.imu_mount_rpy_rad, params_.imu_position_m);
   const VehicleParams& v = params_.vehicle;
   wheel_x_ = {v.cog_to_front_axle_m, v.cog_to_front_axle_m, -v.cogToRearAxle_m(), -v.cogToRearAxle_m()};
   wheel_y_ = {0.5 * v.track_front_m, -0.5 * v.track_front_m, 0.5 * v.track_rear_m, -0.5 * v.track_rear_m};
   gyro_bias_ = params_.gyro_bias_rps;
   wheel_used_stamp_.fill(-1e300);
   wheel_change_s_.fill(-1e300);
+}
+
+bool VehicleInputEstimator::setImuMount(const std::array<double, 3>& rpy, const std::array<double, 3>& position_m) {
+  for (int k = 0; k < 3; ++k)
+    if (!(std::isfinite(rpy[k]) && std::abs(rpy[k]) <= M_PI && std::isfinite(position_m[k]))) return false;
+  params_.imu_mount_rpy_rad = rpy;
+  params_.imu_position_m = position_m;
+  const double cr = std::cos(rpy[0]), sr = std::sin(rpy[0]);
+  const double cp = std::cos(rpy[1]), sp = std::sin(rpy[1]);
+  const double cy = std::cos(rpy[2]), sy = std::sin(rpy[2]);
+  // R_m = Rz(yaw) Ry(pitch) Rx(roll), row-major.
+  mount_ = {cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr,
+            sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr,
+            -sp,     cp * sr,                cp * cr};
+  return true;
 }
 
 SampleFault VehicleInputEstimator::reject(Sensor sensor, SampleFault fault) {
@@ -316,34 +325,49 @@ bool VehicleInputEstimator::estimate(double t_s, VehicleInputEstimate* out) {
     out->valid = false;
     return false;
   }
-  const VehicleInputEstimatorParams& p = params_;
-  const VehicleParams& vp = p.vehicle;
-  const double m = vp.mass_kg, g = vp.gravity_mps2, L = vp.wheelbase_m, h = vp.cog_height_m;
-  const double l_f = vp.cog_to_front_axle_m, l_r = vp.cogToRearAxle_m();
-  const double dt = have_time_ ? t_s - time_s_ : 0.0;
-  const bool restart = !have_time_ || !observer_started_ || dt > p.max_step_s;
+  Cycle& c = cycle_;
+  c.t_s = t_s;
+  c.dt = have_time_ ? t_s - time_s_ : 0.0;
+  c.restart = !have_time_ || !observer_started_ || c.dt > params_.max_step_s;
   have_time_ = true;
   time_s_ = t_s;
+  selectSensors(&c);
+  bodyMotion(&c);
+  yawRate(&c);
+  directSpeed(&c);
+  specificForce(&c);
+  loads(&c);
+  bool speed_measured = false;
+  if (!c.restart) speed_measured = correctObserver(&c);
+  if (speed_measured || c.restart) last_speed_measurement_s_ = t_s;
+  writeVehicle(c, out);
+  for (int i = 0; i < kWheelCount; ++i) writeWheel(c, i, out);
+  return true;
+}
 
-  // --- Which sensors are usable at this cycle (stale ones counted).
-  const bool imu_ok = have_imu_ && t_s - imu_stamp_s_ <= p.imu_timeout_s;
-  if (have_imu_ && !imu_ok) ++faults_[static_cast<int>(Sensor::kImu)][static_cast<int>(SampleFault::kStale)];
-  std::array<bool, kWheelCount> wheel_ok{};
-  int wheels_ok = 0;
+void VehicleInputEstimator::selectSensors(Cycle* c) {
+  const VehicleInputEstimatorParams& p = params_;
+  const double t_s = c->t_s;
+  c->imu_ok = have_imu_ && t_s - imu_stamp_s_ <= p.imu_timeout_s;
+  if (have_imu_ && !c->imu_ok) ++faults_[static_cast<int>(Sensor::kImu)][static_cast<int>(SampleFault::kStale)];
+  c->wheels_ok = 0;
   for (int i = 0; i < kWheelCount; ++i) {
     const auto ui = static_cast<std::size_t>(i);
-    wheel_ok[ui] = !wheel_frozen_[ui] && fresh(wheel_[ui], t_s, p.wheel_timeout_s);
-    if (wheel_[ui].have && !wheel_frozen_[ui] && !wheel_ok[ui])
+    c->wheel_ok[ui] = !wheel_frozen_[ui] && fresh(wheel_[ui], t_s, p.wheel_timeout_s);
+    if (wheel_[ui].have && !wheel_frozen_[ui] && !c->wheel_ok[ui])
       ++faults_[static_cast<int>(Sensor::kWheelSpeed)][static_cast<int>(SampleFault::kStale)];
-    wheels_ok += wheel_ok[ui] ? 1 : 0;
+    c->wheels_ok += c->wheel_ok[ui] ? 1 : 0;
   }
-  const bool steer_ok = fresh(steering_, t_s, p.steering_timeout_s);
-  if (steering_.have && !steer_ok)
+  c->steer_ok = fresh(steering_, t_s, p.steering_timeout_s);
+  if (steering_.have && !c->steer_ok)
     ++faults_[static_cast<int>(Sensor::kSteering)][static_cast<int>(SampleFault::kStale)];
-  const bool speed_ok = fresh(speed_, t_s, p.speed_timeout_s);
-  if (speed_.have && !speed_ok) ++faults_[static_cast<int>(Sensor::kSpeed)][static_cast<int>(SampleFault::kStale)];
+  c->speed_ok = fresh(speed_, t_s, p.speed_timeout_s);
+  if (speed_.have && !c->speed_ok) ++faults_[static_cast<int>(Sensor::kSpeed)][static_cast<int>(SampleFault::kStale)];
+}
 
-  // --- IMU: mean of the samples since the last cycle (or the last one held).
+void VehicleInputEstimator::bodyMotion(Cycle* c) {
+  const VehicleInputEstimatorParams& p = params_;
+  // IMU: mean of the samples since the last cycle (or the last one held).
   std::array<double, 3> f_imu = imu_f_, w_imu = imu_w_;
   if (imu_count_ > 0) {
     for (int k = 0; k < 3; ++k) {
@@ -355,287 +379,333 @@ bool VehicleInputEstimator::estimate(double t_s, VehicleInputEstimate* out) {
   imu_w_sum_ = {0.0, 0.0, 0.0};
   imu_count_ = 0;
 
-  // --- Standstill: every wheel fresh and below standstill_speed for standstill_time (or the reference speed).
+  // Standstill: every wheel fresh and below standstill_speed for standstill_time (or the reference speed).
   bool still_now = false;
-  if (wheels_ok == kWheelCount) {
+  if (c->wheels_ok == kWheelCount) {
     still_now = true;
     for (int i = 0; i < kWheelCount; ++i)
       still_now = still_now && std::abs(wheel_[static_cast<std::size_t>(i)].value) * learner_.radius(i) <
                                    p.standstill_speed_mps;
-  } else if (wheels_ok == 0 && speed_ok) {
+  } else if (c->wheels_ok == 0 && c->speed_ok) {
     still_now = speed_.value < p.standstill_speed_mps;
   }
-  if (still_now && !standstill_candidate_) standstill_since_s_ = t_s;
+  if (still_now && !standstill_candidate_) standstill_since_s_ = c->t_s;
   standstill_candidate_ = still_now;
-  const bool standstill = still_now && t_s - standstill_since_s_ >= p.standstill_time_s;
-  if (standstill && imu_ok && dt > 0.0) {
-    const double a = lowPassGain(dt, p.gyro_bias_time_constant_s);
+  c->standstill = still_now && c->t_s - standstill_since_s_ >= p.standstill_time_s;
+  if (c->standstill && c->imu_ok && c->dt > 0.0) {
+    const double a = lowPassGain(c->dt, p.gyro_bias_time_constant_s);
     for (int k = 0; k < 3; ++k) gyro_bias_[k] += a * (w_imu[k] - gyro_bias_[k]);
   }
 
-  // --- Body-axis specific force and rates.
-  std::array<double, 3> f_b{}, w_b{};
+  // Body-axis specific force and rates.
+  c->f_b = {0.0, 0.0, 0.0};
+  c->w_b = {0.0, 0.0, 0.0};
   for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) {
-      f_b[r] += mount_[3 * r + c] * (f_imu[c] - p.accel_bias_mps2[c]);
-      w_b[r] += mount_[3 * r + c] * (w_imu[c] - gyro_bias_[c]);
+    for (int k = 0; k < 3; ++k) {
+      c->f_b[r] += mount_[3 * r + k] * (f_imu[k] - p.accel_bias_mps2[k]);
+      c->w_b[r] += mount_[3 * r + k] * (w_imu[k] - gyro_bias_[k]);
     }
   }
+}
 
-  // --- Yaw rate with fallbacks.
+void VehicleInputEstimator::yawRate(Cycle* c) {
+  const VehicleInputEstimatorParams& p = params_;
+  const VehicleParams& vp = p.vehicle;
+  const double g = vp.gravity_mps2, L = vp.wheelbase_m;
   const PlanarVelocityObserver::State& x0 = observer_.state();
-  double r = 0.0;
-  YawRateSource yaw_source = YawRateSource::kNone;
-  double delta_mean = 0.0;
-  if (steer_ok) delta_mean = (steering_.value - p.steering_offset_rad) / p.steering_ratio;
-  if (imu_ok) {
-    r = w_b[2];
-    yaw_source = YawRateSource::kGyro;
-  } else if (wheel_ok[kRearLeft] && wheel_ok[kRearRight]) {
-    r = (wheel_[kRearRight].value * learner_.radius(kRearRight) - wheel_[kRearLeft].value * learner_.radius(kRearLeft)) /
-        vp.track_rear_m;
-    yaw_source = YawRateSource::kWheelSpeeds;
-  } else if (steer_ok && observer_started_) {
-    const double k_us = 1.0 / (g * vp.cornering_stiffness_front_per_rad) - 1.0 / (g * vp.cornering_stiffness_rear_per_rad);
-    r = x0(0) * delta_mean / (L + k_us * x0(0) * x0(0));
-    yaw_source = YawRateSource::kSteeringModel;
+  c->r = 0.0;
+  c->yaw_source = YawRateSource::kNone;
+  c->delta_mean = 0.0;
+  if (c->steer_ok) c->delta_mean = (steering_.value - p.steering_offset_rad) / p.steering_ratio;
+  if (c->imu_ok) {
+    c->r = c->w_b[2];
+    c->yaw_source = YawRateSource::kGyro;
+  } else if (c->wheel_ok[kRearLeft] && c->wheel_ok[kRearRight]) {
+    c->r = (wheel_[kRearRight].value * learner_.radius(kRearRight) -
+            wheel_[kRearLeft].value * learner_.radius(kRearLeft)) /
+           vp.track_rear_m;
+    c->yaw_source = YawRateSource::kWheelSpeeds;
+  } else if (c->steer_ok && observer_started_) {
+    const double k_us =
+        1.0 / (g * vp.cornering_stiffness_front_per_rad) - 1.0 / (g * vp.cornering_stiffness_rear_per_rad);
+    c->r = x0(0) * c->delta_mean / (L + k_us * x0(0) * x0(0));
+    c->yaw_source = YawRateSource::kSteeringModel;
   }
-  if (dt > 0.0 && !restart)
-    yaw_accel_ += lowPassGain(dt, p.load_filter_time_constant_s) * ((r - yaw_rate_prev_) / dt - yaw_accel_);
-  yaw_rate_prev_ = r;
+  if (c->dt > 0.0 && !c->restart)
+    yaw_accel_ += lowPassGain(c->dt, p.load_filter_time_constant_s) * ((c->r - yaw_rate_prev_) / c->dt - yaw_accel_);
+  yaw_rate_prev_ = c->r;
+  steerAngles(c->delta_mean, &c->delta);
+}
 
-  // --- Speed measured directly (fallback derivative; observer start value).
-  double v_direct = 0.0;
-  bool have_direct = false;
-  if (wheels_ok > 0) {
+void VehicleInputEstimator::directSpeed(Cycle* c) {
+  // Speed measured directly: the fallback derivative and the observer's start value.
+  c->v_direct = 0.0;
+  c->have_direct = false;
+  if (c->wheels_ok > 0) {
     double sum = 0.0;
     for (int i = 0; i < kWheelCount; ++i)
-      if (wheel_ok[static_cast<std::size_t>(i)])
-        sum += wheel_[static_cast<std::size_t>(i)].value * learner_.radius(i) + r * wheel_y_[static_cast<std::size_t>(i)];
-    v_direct = sum / wheels_ok;
-    have_direct = true;
-  } else if (speed_ok) {
-    v_direct = speed_.value;
-    have_direct = true;
+      if (c->wheel_ok[static_cast<std::size_t>(i)])
+        sum += wheel_[static_cast<std::size_t>(i)].value * learner_.radius(i) +
+               c->r * wheel_y_[static_cast<std::size_t>(i)];
+    c->v_direct = sum / c->wheels_ok;
+    c->have_direct = true;
+  } else if (c->speed_ok) {
+    c->v_direct = speed_.value;
+    c->have_direct = true;
   }
-  if (have_direct && dt > 0.0 && !restart)
-    speed_derivative_ += lowPassGain(dt, kSpeedDerivativeTimeConstant_s) * ((v_direct - speed_prev_) / dt - speed_derivative_);
-  if (have_direct) speed_prev_ = v_direct;
+  if (c->have_direct && c->dt > 0.0 && !c->restart)
+    speed_derivative_ += lowPassGain(c->dt, kSpeedDerivativeTimeConstant_s) *
+                         ((c->v_direct - speed_prev_) / c->dt - speed_derivative_);
+  if (c->have_direct) speed_prev_ = c->v_direct;
+}
 
-  // --- Specific force at the CoG (IMU with lever arm) or the flat-road fallback.
-  std::array<double, 3> f{};
-  AccelSource accel_source = AccelSource::kNone;
-  if (imu_ok) {
+void VehicleInputEstimator::specificForce(Cycle* c) {
+  const VehicleInputEstimatorParams& p = params_;
+  const PlanarVelocityObserver::State& x0 = observer_.state();
+  // At the CoG: the IMU with its lever arm, or the flat-road fallback.
+  c->accel_source = AccelSource::kNone;
+  c->f = {0.0, 0.0, 0.0};
+  if (c->imu_ok) {
     const std::array<double, 3>& q = p.imu_position_m;
-    f = {f_b[0] + yaw_accel_ * q[1] + r * r * q[0], f_b[1] - yaw_accel_ * q[0] + r * r * q[1], f_b[2]};
-    accel_source = AccelSource::kImu;
-  } else if (have_direct || observer_started_) {
-    f = {speed_derivative_, x0(0) * r, g};
-    accel_source = AccelSource::kSpeedDerivative;
+    const double r = c->r;
+    c->f = {c->f_b[0] + yaw_accel_ * q[1] + r * r * q[0], c->f_b[1] - yaw_accel_ * q[0] + r * r * q[1], c->f_b[2]};
+    c->accel_source = AccelSource::kImu;
+  } else if (c->have_direct || observer_started_) {
+    c->f = {speed_derivative_, x0(0) * c->r, p.vehicle.gravity_mps2};
+    c->accel_source = AccelSource::kSpeedDerivative;
   }
-  if (accel_source != AccelSource::kNone) {
-    const double a = f_filtered_init_ && dt > 0.0 ? lowPassGain(dt, p.load_filter_time_constant_s) : 1.0;
-    for (int k = 0; k < 3; ++k) f_filtered_[k] += a * (f[k] - f_filtered_[k]);
+  if (c->accel_source != AccelSource::kNone) {
+    const double a = f_filtered_init_ && c->dt > 0.0 ? lowPassGain(c->dt, p.load_filter_time_constant_s) : 1.0;
+    for (int k = 0; k < 3; ++k) f_filtered_[k] += a * (c->f[k] - f_filtered_[k]);
     f_filtered_init_ = true;
   }
-
-  // --- Observer: restart or predict.
-  if (restart) {
-    observer_.reset(have_direct ? v_direct : 0.0, 0.0);
+  // Observer: restart or predict.
+  if (c->restart) {
+    observer_.reset(c->have_direct ? c->v_direct : 0.0, 0.0);
     observer_started_ = true;
-  } else if (dt > 0.0 && accel_source != AccelSource::kNone) {
-    observer_.predict(dt, f[0], f[1], r);
+  } else if (c->dt > 0.0 && c->accel_source != AccelSource::kNone) {
+    observer_.predict(c->dt, c->f[0], c->f[1], c->r);
   }
+}
 
-  std::array<double, kWheelCount> delta{};
-  steerAngles(delta_mean, &delta);
-
-  // --- Loads: quasi-steady transfer from the filtered specific force (vehicle_model.h with f for a).
+void VehicleInputEstimator::loads(Cycle* c) {
+  const VehicleInputEstimatorParams& p = params_;
+  const VehicleParams& vp = p.vehicle;
+  const double m = vp.mass_kg, g = vp.gravity_mps2, L = vp.wheelbase_m, h = vp.cog_height_m;
+  const double l_f = vp.cog_to_front_axle_m, l_r = vp.cogToRearAxle_m();
+  // Quasi-steady transfer from the filtered specific force (vehicle_model.h with f for a).
   const double v_pred = std::hypot(observer_.state()(0), observer_.state()(1));
-  const double b_x = observer_.state()(2), b_y = observer_.state()(3);
-  const double normal = imu_ok ? m * std::sqrt(std::max(0.0, g * g - b_x * b_x - b_y * b_y)) : m * g;
+  c->b_x = observer_.state()(2);
+  c->b_y = observer_.state()(3);
+  const double normal = c->imu_ok ? m * std::sqrt(std::max(0.0, g * g - c->b_x * c->b_x - c->b_y * c->b_y)) : m * g;
   const double f_aero = 0.5 * vp.air_density_kg_per_m3 * vp.drag_coefficient * vp.frontal_area_m2 * v_pred * v_pred;
   const double ramp = std::min(1.0, v_pred / kRollingRampSpeed_mps);
   // Lateral specific force: dynamics from the gyro (v_x r), the slow deviation (bank, bias, dv_y/dt) from the
   // accelerometer: f_y,c = v_x r + LP(f_y - v_x r).
   const double vx_pred = observer_.state()(0);
-  if (accel_source != AccelSource::kNone) {
-    const double a = lateral_init_ && dt > 0.0 ? lowPassGain(dt, p.lateral_complement_time_constant_s) : 1.0;
-    lateral_deviation_ += a * (f[1] - vx_pred * r - lateral_deviation_);
+  if (c->accel_source != AccelSource::kNone) {
+    const double a = lateral_init_ && c->dt > 0.0 ? lowPassGain(c->dt, p.lateral_complement_time_constant_s) : 1.0;
+    lateral_deviation_ += a * (c->f[1] - vx_pred * c->r - lateral_deviation_);
     lateral_init_ = true;
   }
-  const double fx_l = f_filtered_[0], fy_l = vx_pred * r + lateral_deviation_;
-  const double dfz_long = (m * fx_l + f_aero) * h / L;
+  c->fx_l = f_filtered_[0];
+  c->fy_l = vx_pred * c->r + lateral_deviation_;
+  const double dfz_long = (m * c->fx_l + f_aero) * h / L;
   const double fz_front = normal * l_r / L - dfz_long, fz_rear = normal * l_f / L + dfz_long;
-  const double dfz_f = m * fy_l * h * vp.front_roll_stiffness_share / vp.track_front_m;
-  const double dfz_r = m * fy_l * h * (1.0 - vp.front_roll_stiffness_share) / vp.track_rear_m;
-  std::array<double, kWheelCount> fz = {0.5 * fz_front - dfz_f, 0.5 * fz_front + dfz_f, 0.5 * fz_rear - dfz_r,
-                                        0.5 * fz_rear + dfz_r};
-  for (double& load : fz) load = std::max(load, 0.0);
-  const double demand = m * fx_l + f_aero + vp.rolling_resistance_coefficient * normal * ramp;
-  std::array<double, kWheelCount> prior{};
-  for (int i = 0; i < kWheelCount; ++i) prior[static_cast<std::size_t>(i)] = slipPrior(i, demand, fz[i], ramp);
-  const double a_long = fx_l - b_x;  // kinematic longitudinal acceleration [m/s^2]
+  const double dfz_f = m * c->fy_l * h * vp.front_roll_stiffness_share / vp.track_front_m;
+  const double dfz_r = m * c->fy_l * h * (1.0 - vp.front_roll_stiffness_share) / vp.track_rear_m;
+  c->fz = {0.5 * fz_front - dfz_f, 0.5 * fz_front + dfz_f, 0.5 * fz_rear - dfz_r, 0.5 * fz_rear + dfz_r};
+  for (double& load : c->fz) load = std::max(load, 0.0);
+  const double demand = m * c->fx_l + f_aero + vp.rolling_resistance_coefficient * normal * ramp;
+  for (int i = 0; i < kWheelCount; ++i)
+    c->prior[static_cast<std::size_t>(i)] = slipPrior(i, demand, c->fz[static_cast<std::size_t>(i)], ramp);
+  c->a_long = c->fx_l - c->b_x;  // kinematic longitudinal acceleration [m/s^2]
+}
 
-  // --- Measurements.
+bool VehicleInputEstimator::correctObserver(Cycle* c) {
+  bool speed_measured = correctWithWheels(*c);
+  if (c->speed_ok) speed_measured = correctWithReferenceSpeed(*c) || speed_measured;
+  correctWithLateralModel(*c, speed_measured);
+  if (c->standstill) {
+    const double var = kStandstillSigma_mps * kStandstillSigma_mps;
+    const double inf = std::numeric_limits<double>::infinity();
+    observer_.update(PlanarVelocityObserver::Row(1.0, 0.0, 0.0, 0.0), 0.0, 0.0, var, inf);
+    observer_.update(PlanarVelocityObserver::Row(0.0, 1.0, 0.0, 0.0), 0.0, 0.0, var, inf);
+    speed_measured = true;
+  }
+  return speed_measured;
+}
+
+bool VehicleInputEstimator::correctWithWheels(const Cycle& c) {
+  const VehicleInputEstimatorParams& p = params_;
   bool speed_measured = false;
-  if (!restart) {
+  for (int i = 0; i < kWheelCount; ++i) {
+    const auto ui = static_cast<std::size_t>(i);
+    if (!c.wheel_ok[ui] || !(wheel_[ui].stamp_s > wheel_used_stamp_[ui])) continue;
+    wheel_used_stamp_[ui] = wheel_[ui].stamp_s;
+    const double R = learner_.radius(i);
+    const double z = wheel_[ui].value * R / (1.0 + c.prior[ui]);
+    PlanarVelocityObserver::Row hrow(std::cos(c.delta[ui]), std::sin(c.delta[ui]), 0.0, 0.0);
+    const double offset = -c.r * wheel_y_[ui] * std::cos(c.delta[ui]) + c.r * wheel_x_[ui] * std::sin(c.delta[ui]);
+    const double s_r = learner_.converged(i) ? p.radius_sigma_converged : p.radius_sigma_unconverged;
+    const double q = p.wheel_speed_quantum_rps * R;
+    const double s_k = p.slip_prior_relative_sigma * std::abs(c.prior[ui]) + p.slip_prior_sigma;
+    const double var = q * q / 12.0 + z * z * (s_k * s_k + s_r * s_r) + 1e-8;
+    if (observer_.update(hrow, offset, z, var, c.standstill ? std::numeric_limits<double>::infinity() : p.wheel_gate) <
+        0.0)
+      ++gated_wheel_updates_;
+    else
+      speed_measured = true;
+  }
+  return speed_measured;
+}
+
+bool VehicleInputEstimator::correctWithReferenceSpeed(const Cycle& c) {
+  const VehicleInputEstimatorParams& p = params_;
+  bool speed_measured = false;
+  const double v_ref_now = speed_.value + c.a_long * (p.speed_lag_s + (c.t_s - speed_.stamp_s));
+  if (speed_.stamp_s > speed_used_stamp_) {
+    speed_used_stamp_ = speed_.stamp_s;
+    observer_.update(PlanarVelocityObserver::Row(1.0, 0.0, 0.0, 0.0), 0.0, v_ref_now,
+                     p.speed_sigma_mps * p.speed_sigma_mps, std::numeric_limits<double>::infinity());
+    speed_measured = true;
+  }
+  // Rolling radii against the reference speed on free-rolling straights. a_long decides "free rolling" only
+  // once the observer knows the grade offset b_x to better than the learner's acceleration gate: before that
+  // (after a start or reset) an acceleration can hide in b_x, and the wheels' traction slip would be learned
+  // as a smaller radius (seen on the comma2k19 RAV4 on-ramp, docs/real_car.md).
+  const bool offset_settled = observer_.sigma(PlanarVelocityObserver::kBx) <= p.radius_learner.max_long_accel_mps2;
+  if (c.dt > 0.0 && offset_settled) {
     for (int i = 0; i < kWheelCount; ++i) {
       const auto ui = static_cast<std::size_t>(i);
-      if (!wheel_ok[ui] || !(wheel_[ui].stamp_s > wheel_used_stamp_[ui])) continue;
-      wheel_used_stamp_[ui] = wheel_[ui].stamp_s;
-      const double R = learner_.radius(i);
-      const double z = wheel_[ui].value * R / (1.0 + prior[ui]);
-      PlanarVelocityObserver::Row hrow(std::cos(delta[ui]), std::sin(delta[ui]), 0.0, 0.0);
-      const double offset = -r * wheel_y_[ui] * std::cos(delta[ui]) + r * wheel_x_[ui] * std::sin(delta[ui]);
-      const double s_r = learner_.converged(i) ? p.radius_sigma_converged : p.radius_sigma_unconverged;
-      const double q = p.wheel_speed_quantum_rps * R;
-      const double s_k = p.slip_prior_relative_sigma * std::abs(prior[ui]) + p.slip_prior_sigma;
-      const double var = q * q / 12.0 + z * z * (s_k * s_k + s_r * s_r) + 1e-8;
-      if (observer_.update(hrow, offset, z, var, standstill ? std::numeric_limits<double>::infinity() : p.wheel_gate) <
-          0.0)
-        ++gated_wheel_updates_;
-      else
-        speed_measured = true;
-    }
-    if (speed_ok) {
-      const double v_ref_now = speed_.value + a_long * (p.speed_lag_s + (t_s - speed_.stamp_s));
-      if (speed_.stamp_s > speed_used_stamp_) {
-        speed_used_stamp_ = speed_.stamp_s;
-        observer_.update(PlanarVelocityObserver::Row(1.0, 0.0, 0.0, 0.0), 0.0, v_ref_now,
-                         p.speed_sigma_mps * p.speed_sigma_mps, std::numeric_limits<double>::infinity());
-        speed_measured = true;
-      }
-      // Rolling radii against the reference speed on free-rolling straights. a_long decides "free rolling" only
-      // once the observer knows the grade offset b_x to better than the learner's acceleration gate: before that
-      // (after a start or reset) an acceleration can hide in b_x, and the wheels' traction slip would be learned
-      // as a smaller radius (seen on the comma2k19 RAV4 on-ramp, docs/real_car.md).
-      const bool offset_settled =
-          observer_.sigma(PlanarVelocityObserver::kBx) <= p.radius_learner.max_long_accel_mps2;
-      if (dt > 0.0 && offset_settled) {
-        for (int i = 0; i < kWheelCount; ++i) {
-          const auto ui = static_cast<std::size_t>(i);
-          if (!wheel_ok[ui] || !steer_ok || !imu_ok) continue;
-          const double ground = v_ref_now - r * wheel_y_[ui];
-          learner_.addObservation(i, std::abs(ground) * dt, wheel_[ui].value, ground, a_long, r, delta[ui], prior[ui]);
-        }
-      }
-    }
-    // Single-track lateral velocity (steady state, linear rear-axle cornering stiffness).
-    const double vx = observer_.state()(0);
-    const double fz_r = fz[kRearLeft] + fz[kRearRight];
-    if (fz_r > 0.0 && (speed_measured || wheels_ok > 0 || speed_ok)) {
-      double z = r * l_r, sigma = p.lateral_model_sigma_mps;
-      if (std::abs(vx) >= p.min_slip_speed_mps) {
-        const double alpha_r = -m * fy_l * l_f / (L * vp.cornering_stiffness_rear_per_rad * fz_r);
-        const double vy_r = vx * std::tan(alpha_r);
-        z += vy_r;
-        sigma += p.lateral_model_relative_sigma * std::abs(vy_r);
-      }
-      observer_.update(PlanarVelocityObserver::Row(0.0, 1.0, 0.0, 0.0), 0.0, z, sigma * sigma,
-                       std::numeric_limits<double>::infinity());
-    }
-    if (standstill) {
-      const double var = kStandstillSigma_mps * kStandstillSigma_mps;
-      const double inf = std::numeric_limits<double>::infinity();
-      observer_.update(PlanarVelocityObserver::Row(1.0, 0.0, 0.0, 0.0), 0.0, 0.0, var, inf);
-      observer_.update(PlanarVelocityObserver::Row(0.0, 1.0, 0.0, 0.0), 0.0, 0.0, var, inf);
-      speed_measured = true;
+      if (!c.wheel_ok[ui] || !c.steer_ok || !c.imu_ok) continue;
+      const double ground = v_ref_now - c.r * wheel_y_[ui];
+      learner_.addObservation(i, std::abs(ground) * c.dt, wheel_[ui].value, ground, c.a_long, c.r, c.delta[ui],
+                              c.prior[ui]);
     }
   }
-  if (speed_measured || restart) last_speed_measurement_s_ = t_s;
+  return speed_measured;
+}
 
-  // --- Sources.
+void VehicleInputEstimator::correctWithLateralModel(const Cycle& c, bool speed_measured) {
+  // Single-track lateral velocity (steady state, linear rear-axle cornering stiffness).
+  const VehicleInputEstimatorParams& p = params_;
+  const VehicleParams& vp = p.vehicle;
+  const double vx = observer_.state()(0);
+  const double fz_r = c.fz[kRearLeft] + c.fz[kRearRight];
+  if (!(fz_r > 0.0 && (speed_measured || c.wheels_ok > 0 || c.speed_ok))) return;
+  const double l_f = vp.cog_to_front_axle_m, l_r = vp.cogToRearAxle_m();
+  double z = c.r * l_r, sigma = p.lateral_model_sigma_mps;
+  if (std::abs(vx) >= p.min_slip_speed_mps) {
+    const double alpha_r = -vp.mass_kg * c.fy_l * l_f / (vp.wheelbase_m * vp.cornering_stiffness_rear_per_rad * fz_r);
+    const double vy_r = vx * std::tan(alpha_r);
+    z += vy_r;
+    sigma += p.lateral_model_relative_sigma * std::abs(vy_r);
+  }
+  observer_.update(PlanarVelocityObserver::Row(0.0, 1.0, 0.0, 0.0), 0.0, z, sigma * sigma,
+                   std::numeric_limits<double>::infinity());
+}
+
+void VehicleInputEstimator::writeVehicle(const Cycle& c, VehicleInputEstimate* out) {
+  const VehicleInputEstimatorParams& p = params_;
+  const double g = p.vehicle.gravity_mps2;
   SpeedSource speed_source = SpeedSource::kNone;
-  if (wheels_ok > 0) speed_source = SpeedSource::kWheels;
-  else if (speed_ok) speed_source = SpeedSource::kReferenceSpeed;
-  else if (imu_ok && t_s - last_speed_measurement_s_ <= p.max_dead_reckoning_s && observer_started_)
+  if (c.wheels_ok > 0)
+    speed_source = SpeedSource::kWheels;
+  else if (c.speed_ok)
+    speed_source = SpeedSource::kReferenceSpeed;
+  else if (c.imu_ok && c.t_s - last_speed_measurement_s_ <= p.max_dead_reckoning_s && observer_started_)
     speed_source = SpeedSource::kDeadReckoning;
-
-  // --- Outputs.
   const PlanarVelocityObserver::State& x = observer_.state();
   const double vx = x(0), vy = x(1);
   const double v = std::hypot(vx, vy);
   const bool valid = speed_source != SpeedSource::kNone;
-  out->stamp_s = t_s;
+  const double r = c.r;
+  out->stamp_s = c.t_s;
   out->valid = valid;
   out->speed_mps = valid ? v : kNaN;
   out->longitudinal_velocity_mps = valid ? vx : kNaN;
   out->lateral_velocity_mps = valid ? vy : kNaN;
   out->lateral_velocity_sigma_mps = observer_.sigma(PlanarVelocityObserver::kVy);
   out->sideslip_rad = valid && v >= p.min_slip_speed_mps ? std::atan2(vy, vx) : (valid ? 0.0 : kNaN);
-  out->yaw_rate_rps = yaw_source != YawRateSource::kNone ? r : kNaN;
+  out->yaw_rate_rps = c.yaw_source != YawRateSource::kNone ? r : kNaN;
   out->path_curvature_per_m =
-      valid && yaw_source != YawRateSource::kNone ? (v >= p.min_slip_speed_mps ? r / v : 0.0) : kNaN;
-  out->long_specific_force_mps2 = fx_l;
-  out->lat_specific_force_mps2 = fy_l;
-  out->road_grade_rad = std::asin(std::clamp(b_x / g, -1.0, 1.0));
-  out->road_bank_rad = std::asin(std::clamp(b_y / g, -1.0, 1.0));
+      valid && c.yaw_source != YawRateSource::kNone ? (v >= p.min_slip_speed_mps ? r / v : 0.0) : kNaN;
+  out->long_specific_force_mps2 = c.fx_l;
+  out->lat_specific_force_mps2 = c.fy_l;
+  out->road_grade_rad = std::asin(std::clamp(c.b_x / g, -1.0, 1.0));
+  out->road_bank_rad = std::asin(std::clamp(c.b_y / g, -1.0, 1.0));
   out->grade_sigma_rad = observer_.sigma(PlanarVelocityObserver::kBx) / g;
   out->bank_sigma_rad = observer_.sigma(PlanarVelocityObserver::kBy) / g;
-  out->standstill = standstill;
+  out->standstill = c.standstill;
   out->speed_source = speed_source;
-  out->yaw_rate_source = yaw_source;
-  out->accel_source = accel_source;
-  out->steer_source = steer_ok ? SteerSource::kMeasured : SteerSource::kNone;
-  out->sensor_fresh = {imu_ok, wheels_ok > 0, steer_ok, speed_ok};
+  out->yaw_rate_source = c.yaw_source;
+  out->accel_source = c.accel_source;
+  out->steer_source = c.steer_ok ? SteerSource::kMeasured : SteerSource::kNone;
+  out->sensor_fresh = {c.imu_ok, c.wheels_ok > 0, c.steer_ok, c.speed_ok};
+}
 
-  const bool primary = imu_ok && speed_source == SpeedSource::kWheels;
-  for (int i = 0; i < kWheelCount; ++i) {
-    const auto ui = static_cast<std::size_t>(i);
-    WheelInputEstimate& w = out->wheels[ui];
-    const bool front = i < kRearLeft;
-    w.flags = 0;
-    if (!wheel_ok[ui]) w.flags |= kFlagWheelSpeedMissing;
-    if (wheel_frozen_[ui]) w.flags |= kFlagWheelFrozen;
-    if (!learner_.converged(i)) w.flags |= kFlagRadiusNotConverged;
-    if (!imu_ok) w.flags |= kFlagNoImu;
-    w.rolling_radius_m = learner_.radius(i);
-    w.steer_angle_rad = steer_ok ? delta[ui] : (front ? kNaN : 0.0);
-    w.load_n = accel_source != AccelSource::kNone ? fz[ui] : kNaN;
-    w.load_quality = accel_source == AccelSource::kImu ? EstimateQuality::kGood
-                     : accel_source == AccelSource::kNone ? EstimateQuality::kInvalid
-                                                           : EstimateQuality::kDegraded;
-    if (!valid || yaw_source == YawRateSource::kNone) {
-      w.slip_angle_rad = w.slip_ratio = w.path_curvature_per_m = w.speed_mps = kNaN;
-      w.slip_angle_quality = w.slip_ratio_quality = EstimateQuality::kInvalid;
-      continue;
-    }
-    const double wvx = vx - r * wheel_y_[ui], wvy = vy + r * wheel_x_[ui];
-    const double speed = std::hypot(wvx, wvy);
-    w.speed_mps = speed;
-    const bool slow = speed < p.min_slip_speed_mps;
-    if (slow) w.flags |= kFlagLowSpeed;
-    w.path_curvature_per_m = slow ? 0.0 : r / speed;
-    const bool fallback = !primary || yaw_source != YawRateSource::kGyro;
-    double alpha = 0.0;
-    if (slow) {
-      w.slip_angle_rad = 0.0;
-      w.slip_angle_quality = EstimateQuality::kLowSpeed;
-    } else if (front && !steer_ok) {
-      const double fz_f = fz[kFrontLeft] + fz[kFrontRight];
-      alpha = fz_f > 0.0 ? -m * fy_l * l_r / (L * vp.cornering_stiffness_front_per_rad * fz_f) : 0.0;
-      w.slip_angle_rad = alpha;
-      w.slip_angle_quality = EstimateQuality::kDegraded;
-      w.flags |= kFlagSteeringModel;
-    } else {
-      alpha = std::atan2(wvy, wvx) - delta[ui];
-      w.slip_angle_rad = alpha;
-      w.slip_angle_quality = fallback ? EstimateQuality::kDegraded : EstimateQuality::kGood;
-    }
-    if (!wheel_ok[ui]) {
-      w.slip_ratio = kNaN;
-      w.slip_ratio_quality = EstimateQuality::kInvalid;
-    } else if (slow) {
-      w.slip_ratio = 0.0;
-      w.slip_ratio_quality = EstimateQuality::kLowSpeed;
-    } else {
-      w.slip_ratio = wheel_[ui].value * learner_.radius(i) / (speed * std::cos(alpha)) - 1.0;
-      w.slip_ratio_quality =
-          fallback || !learner_.converged(i) ? EstimateQuality::kDegraded : EstimateQuality::kGood;
-    }
+void VehicleInputEstimator::writeWheel(const Cycle& c, int i, VehicleInputEstimate* out) const {
+  const VehicleInputEstimatorParams& p = params_;
+  const VehicleParams& vp = p.vehicle;
+  const auto ui = static_cast<std::size_t>(i);
+  WheelInputEstimate& w = out->wheels[ui];
+  const bool front = i < kRearLeft;
+  w.flags = 0;
+  if (!c.wheel_ok[ui]) w.flags |= kFlagWheelSpeedMissing;
+  if (wheel_frozen_[ui]) w.flags |= kFlagWheelFrozen;
+  if (!learner_.converged(i)) w.flags |= kFlagRadiusNotConverged;
+  if (!c.imu_ok) w.flags |= kFlagNoImu;
+  w.rolling_radius_m = learner_.radius(i);
+  w.steer_angle_rad = c.steer_ok ? c.delta[ui] : (front ? kNaN : 0.0);
+  w.load_n = c.accel_source != AccelSource::kNone ? c.fz[ui] : kNaN;
+  w.load_quality = c.accel_source == AccelSource::kImu    ? EstimateQuality::kGood
+                   : c.accel_source == AccelSource::kNone ? EstimateQuality::kInvalid
+                                                          : EstimateQuality::kDegraded;
+  if (!out->valid || c.yaw_source == YawRateSource::kNone) {
+    w.slip_angle_rad = w.slip_ratio = w.path_curvature_per_m = w.speed_mps = kNaN;
+    w.slip_angle_quality = w.slip_ratio_quality = EstimateQuality::kInvalid;
+    return;
   }
-  return true;
+  const PlanarVelocityObserver::State& x = observer_.state();
+  const double r = c.r;
+  const double wvx = x(0) - r * wheel_y_[ui], wvy = x(1) + r * wheel_x_[ui];
+  const double speed = std::hypot(wvx, wvy);
+  w.speed_mps = speed;
+  const bool slow = speed < p.min_slip_speed_mps;
+  if (slow) w.flags |= kFlagLowSpeed;
+  w.path_curvature_per_m = slow ? 0.0 : r / speed;
+  const bool fallback = !(c.imu_ok && out->speed_source == SpeedSource::kWheels) || c.yaw_source != YawRateSource::kGyro;
+  double alpha = 0.0;
+  if (slow) {
+    w.slip_angle_rad = 0.0;
+    w.slip_angle_quality = EstimateQuality::kLowSpeed;
+  } else if (front && !c.steer_ok) {
+    const double fz_f = c.fz[kFrontLeft] + c.fz[kFrontRight];
+    alpha = fz_f > 0.0 ? -vp.mass_kg * c.fy_l * vp.cogToRearAxle_m() /
+                             (vp.wheelbase_m * vp.cornering_stiffness_front_per_rad * fz_f)
+                       : 0.0;
+    w.slip_angle_rad = alpha;
+    w.slip_angle_quality = EstimateQuality::kDegraded;
+    w.flags |= kFlagSteeringModel;
+  } else {
+    alpha = std::atan2(wvy, wvx) - c.delta[ui];
+    w.slip_angle_rad = alpha;
+    w.slip_angle_quality = fallback ? EstimateQuality::kDegraded : EstimateQuality::kGood;
+  }
+  if (slow) {
+    w.slip_ratio = 0.0;
+    w.slip_ratio_quality = EstimateQuality::kLowSpeed;
+  } else if (!c.wheel_ok[ui]) {
+    // No speed of its own: the slip of the wheel's quasi-steady force demand (drive layout, brake balance, slip
+    // stiffness), the same prior that weighs its wheel-speed update when it has one.
+    w.slip_ratio = c.prior[ui];
+    w.slip_ratio_quality = EstimateQuality::kDegraded;
+    w.flags |= kFlagSlipRatioFromForce;
+  } else {
+    w.slip_ratio = wheel_[ui].value * learner_.radius(i) / (speed * std::cos(alpha)) - 1.0;
+    w.slip_ratio_quality = fallback || !learner_.converged(i) ? EstimateQuality::kDegraded : EstimateQuality::kGood;
+  }
 }
 
 }  // namespace tread_wear

@@ -319,15 +319,19 @@ bool readNodeConfig(const ConfigValue& document, const std::string& default_conf
   return true;
 }
 
-NodeConfig loadNodeConfigFile(const std::string& path) {
+ConfigValue loadConfigDocument(const std::string& path) {
   auto failure = [&](const std::string& what) { return std::runtime_error(path + ": " + what); };
-  ConfigValue document;
   try {
     if (!std::ifstream(path)) throw failure("cannot open the file for reading");
-    document = fromYaml(YAML::LoadFile(path));
+    return fromYaml(YAML::LoadFile(path));
   } catch (const YAML::Exception& e) {
     throw failure(std::string("not a readable YAML document: ") + e.what());
   }
+}
+
+NodeConfig loadNodeConfigFile(const std::string& path) {
+  auto failure = [&](const std::string& what) { return std::runtime_error(path + ": " + what); };
+  const ConfigValue document = loadConfigDocument(path);
   const std::size_t slash = path.find_last_of('/');
   const std::string directory = slash == std::string::npos ? "." : path.substr(0, slash);
   NodeConfig config;

@@ -38,6 +38,23 @@ ConfigValue parameterTree(XmlRpc::XmlRpcValue& value) {
   return v;
 }
 
+std::vector<geometry_msgs::TransformStamped> wheelFrameTransforms(const NodeConfig& config, const ros::Time& stamp) {
+  std::vector<geometry_msgs::TransformStamped> transforms;
+  for (const WheelConfig& w : config.wheels) {
+    if (!w.has_position) continue;
+    geometry_msgs::TransformStamped t;
+    t.header.stamp = stamp;
+    t.header.frame_id = config.base_frame;
+    t.child_frame_id = w.frame_id;
+    t.transform.translation.x = w.position_m[0];
+    t.transform.translation.y = w.position_m[1];
+    t.transform.translation.z = w.position_m[2];
+    t.transform.rotation.w = 1.0;
+    transforms.push_back(t);
+  }
+  return transforms;
+}
+
 bool loadNodeConfig(const ros::NodeHandle& pnh, NodeConfig* config, std::string* error) {
   XmlRpc::XmlRpcValue namespace_tree;
   // An empty private namespace is no map at all: then every key is absent (and `wheels` is reported missing).

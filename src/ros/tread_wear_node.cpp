@@ -1,6 +1,5 @@
 #include "tread_wear/ros/tread_wear_node.h"
 
-#include <geometry_msgs/TransformStamped.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include <chrono>
@@ -15,6 +14,7 @@
 #include "tread_wear/WheelSpeed.h"
 #include "tread_wear/ros/node_config.h"
 #include "tread_wear/ros/node_services.h"
+#include "tread_wear/ros/ros_log.h"
 
 namespace tread_wear {
 namespace {
@@ -52,7 +52,7 @@ bool TreadWearNode::initialize() {
     ROS_FATAL("tread_wear_node: %s", e.what());
     return false;
   }
-  persistence_ = std::make_unique<NodePersistence>(config_.state_file);
+  persistence_ = std::make_unique<NodePersistence>(config_.state_file, rosconsoleSink());
   persistence_->restore(wheels_);
   reconfigure_ = std::make_unique<NodeReconfigure>(config_, &loop_status_);
 
@@ -212,19 +212,7 @@ void TreadWearNode::subscribeInputs(WheelPipeline* w) {
 }
 
 void TreadWearNode::broadcastWheelFrames() {
-  std::vector<geometry_msgs::TransformStamped> transforms;
-  for (const WheelConfig& w : config_.wheels) {
-    if (!w.has_position) continue;
-    geometry_msgs::TransformStamped t;
-    t.header.stamp = ros::Time::now();
-    t.header.frame_id = config_.base_frame;
-    t.child_frame_id = w.frame_id;
-    t.transform.translation.x = w.position_m[0];
-    t.transform.translation.y = w.position_m[1];
-    t.transform.translation.z = w.position_m[2];
-    t.transform.rotation.w = 1.0;
-    transforms.push_back(t);
-  }
+  const std::vector<geometry_msgs::TransformStamped> transforms = wheelFrameTransforms(config_, ros::Time::now());
   if (transforms.empty()) return;
   tf_broadcaster_ = std::make_unique<tf2_ros::StaticTransformBroadcaster>();
   tf_broadcaster_->sendTransform(transforms);
@@ -269,12 +257,12 @@ void TreadWearNode::loop() {
     const WheelOutput out = w.inputTime() ? w.lastOutput() : w.step(now_s, settings);
     RealtimePublisher<tread_wear::WheelWear>& publisher = *wheel_publishers_[i];
     if (publisher.trylock()) {
-      w.fillMessage(stamp, preset, &publisher.msg());
+      fillMessage(w, stamp, preset, &publisher.msg());
       publisher.unlockAndPublish();
     } else {
       ++skipped;
     }
-    if (vehicle_slot) w.fillMessage(stamp, preset, &vehicle_publisher_->msg().wheels[i]);
+    if (vehicle_slot) fillMessage(w, stamp, preset, &vehicle_publisher_->msg().wheels[i]);
     total_rate_s += out.result.wear_rate_kg_per_s;
     total_rate_m += out.result.wear_rate_kg_per_m;
     total_loss += out.accumulated_loss_kg;

@@ -45,7 +45,7 @@ std::uint64_t rejectedCount(const VehicleInputEstimator& e, Sensor s) {
 const char* fallbackOf(Sensor s) {
   switch (s) {
     case Sensor::kImu: return "loads and lateral model on the flat-road fallback (speed derivative), yaw rate from wheels";
-    case Sensor::kWheelSpeed: return "speed from the reference speed / IMU dead reckoning; slip ratio invalid";
+    case Sensor::kWheelSpeed: return "speed from the reference speed / IMU dead reckoning; slip ratio from the force demand";
     case Sensor::kSteering: return "front slip angles from the single-track model";
     case Sensor::kSpeed: return "no rolling-radius learning; speed from wheels + IMU";
   }
@@ -149,31 +149,23 @@ void appendVehicleMarkers(const VehicleInputsConfig& config, const VehicleInputE
   }
 }
 
-bool wheelPublishable(const VehicleInputEstimate& e, int wheel) {
-  if (!e.valid) return false;
-  const WheelInputEstimate& w = e.wheels[static_cast<std::size_t>(wheel)];
-  return w.load_quality != EstimateQuality::kInvalid && w.slip_angle_quality != EstimateQuality::kInvalid &&
-         w.slip_ratio_quality != EstimateQuality::kInvalid && std::isfinite(w.load_n) &&
-         std::isfinite(w.slip_angle_rad) && std::isfinite(w.slip_ratio) && std::isfinite(w.path_curvature_per_m) &&
-         std::isfinite(w.speed_mps);
-}
-
 void fillInputQuality(const VehicleInputEstimate& e, int wheel, bool published, tread_wear::WheelInputQuality* msg) {
-  const WheelInputEstimate& w = e.wheels[static_cast<std::size_t>(wheel)];
-  msg->load_quality = static_cast<std::uint8_t>(e.valid ? w.load_quality : EstimateQuality::kInvalid);
-  msg->slip_angle_quality = static_cast<std::uint8_t>(e.valid ? w.slip_angle_quality : EstimateQuality::kInvalid);
-  msg->slip_ratio_quality = static_cast<std::uint8_t>(e.valid ? w.slip_ratio_quality : EstimateQuality::kInvalid);
-  msg->flags = w.flags;
-  msg->speed_source = static_cast<std::uint8_t>(e.speed_source);
-  msg->yaw_rate_source = static_cast<std::uint8_t>(e.yaw_rate_source);
-  msg->accel_source = static_cast<std::uint8_t>(e.accel_source);
+  const WheelInputQualityRecord q = inputQuality(e, wheel);
+  msg->load_quality = static_cast<std::uint8_t>(q.load_quality);
+  msg->slip_angle_quality = static_cast<std::uint8_t>(q.slip_angle_quality);
+  msg->slip_ratio_quality = static_cast<std::uint8_t>(q.slip_ratio_quality);
+  msg->flags = q.flags;
+  msg->speed_source = static_cast<std::uint8_t>(q.speed_source);
+  msg->yaw_rate_source = static_cast<std::uint8_t>(q.yaw_rate_source);
+  msg->accel_source = static_cast<std::uint8_t>(q.accel_source);
   msg->published = published;
-  msg->steer_angle_rad = w.steer_angle_rad;
-  msg->rolling_radius_m = w.rolling_radius_m;
+  msg->steer_angle_rad = q.steer_angle_rad;
+  msg->rolling_radius_m = q.rolling_radius_m;
 }
 
 void publishWheelInputs(const VehicleInputEstimate& estimate, const ros::Time& now,
-                        std::array<VehicleInputPublishers, kWheelCount>* publishers, CycleStats* stats) {
+                        std::array<VehicleInputPublishers, kWheelCount>* publishers, CycleStats* stats,
+                        bool wait_for_slot) {
   if (!estimate.valid) ++stats->invalid_cycles;
   for (int i = 0; i < kWheelCount; ++i) {
     const bool publish = wheelPublishable(estimate, i);
@@ -182,7 +174,7 @@ void publishWheelInputs(const VehicleInputEstimate& estimate, const ros::Time& n
     bool published = false;
     if (publish) {
       published = true;
-      if (p.load->trylock()) {
+      if (wait_for_slot ? p.load->lock() : p.load->trylock()) {
         p.load->msg().header.stamp = now;
         p.load->msg().load_n = w.load_n;
         p.load->unlockAndPublish();
@@ -190,7 +182,7 @@ void publishWheelInputs(const VehicleInputEstimate& estimate, const ros::Time& n
         ++stats->skipped_publications;
         published = false;
       }
-      if (p.slip->trylock()) {
+      if (wait_for_slot ? p.slip->lock() : p.slip->trylock()) {
         p.slip->msg().header.stamp = now;
         p.slip->msg().slip_angle_rad = w.slip_angle_rad;
         p.slip->msg().slip_ratio = w.slip_ratio;
@@ -200,7 +192,7 @@ void publishWheelInputs(const VehicleInputEstimate& estimate, const ros::Time& n
         ++stats->skipped_publications;
         published = false;
       }
-      if (p.speed->trylock()) {
+      if (wait_for_slot ? p.speed->lock() : p.speed->trylock()) {
         p.speed->msg().header.stamp = now;
         p.speed->msg().speed_mps = w.speed_mps;
         p.speed->unlockAndPublish();
@@ -212,7 +204,7 @@ void publishWheelInputs(const VehicleInputEstimate& estimate, const ros::Time& n
     } else {
       ++stats->withheld[static_cast<std::size_t>(i)];
     }
-    if (p.quality->trylock()) {
+    if (wait_for_slot ? p.quality->lock() : p.quality->trylock()) {
       p.quality->msg().header.stamp = now;
       fillInputQuality(estimate, i, published, &p.quality->msg());
       p.quality->unlockAndPublish();
@@ -233,10 +225,7 @@ bool VehicleInputsNode::initialize() {
     return false;
   }
   ROS_INFO_STREAM("vehicle_inputs_node parameters:\n" << config_.describe());
-  // The node rotates the IMU into base_frame itself (tf); the lever arm is set once the transform is known.
-  config_.estimator.imu_mount_rpy_rad = {0.0, 0.0, 0.0};
-  config_.estimator.imu_position_m = {0.0, 0.0, 0.0};
-  estimator_ = std::make_unique<VehicleInputEstimator>(config_.estimator);
+  pipeline_ = std::make_unique<VehicleInputPipeline>(config_);
 
   if (!config_.radius_file.empty()) {
     std::array<RollingRadiusState, kWheelCount> radii{};
@@ -244,7 +233,7 @@ bool VehicleInputsNode::initialize() {
     const RadiusLoadStatus s = loadRollingRadii(config_.radius_file, config_.wheel_names, &radii, &load_error);
     radius_restore_ = radiusLoadStatusName(s);
     if (s == RadiusLoadStatus::kLoaded) {
-      if (estimator_->restoreRollingRadii(radii)) {
+      if (pipeline_->restoreRollingRadii(radii)) {
         ROS_INFO("vehicle_inputs_node: rolling radii restored from %s", config_.radius_file.c_str());
       } else {
         radius_restore_ = "rejected";
@@ -276,12 +265,14 @@ bool VehicleInputsNode::initialize() {
     p.quality->msg().wheel = config_.wheel_names[i];
   }
   const ros::TransportHints hints = ros::TransportHints().tcpNoDelay();
-  imu_sub_ = nh_.subscribe("imu", 50, &VehicleInputsNode::imuCallback, this, hints);
-  joint_sub_ = nh_.subscribe("joint_states", 50, &VehicleInputsNode::jointCallback, this, hints);
+  // In input time every sample counts (a dropped one changes the result): keep a backlog of a fast replay.
+  const std::uint32_t queue = config_.input_time ? 10000 : 50;
+  imu_sub_ = nh_.subscribe("imu", queue, &VehicleInputsNode::imuCallback, this, hints);
+  joint_sub_ = nh_.subscribe("joint_states", queue, &VehicleInputsNode::jointCallback, this, hints);
   if (config_.speed_source == "odom")
-    speed_sub_ = nh_.subscribe("odom", 20, &VehicleInputsNode::odomCallback, this, hints);
+    speed_sub_ = nh_.subscribe("odom", queue, &VehicleInputsNode::odomCallback, this, hints);
   else
-    speed_sub_ = nh_.subscribe("speed", 20, &VehicleInputsNode::twistCallback, this, hints);
+    speed_sub_ = nh_.subscribe("speed", queue, &VehicleInputsNode::twistCallback, this, hints);
 
   updater_ = std::make_unique<diagnostic_updater::Updater>(nh_, pnh_);
   updater_->setHardwareID("vehicle_inputs");
@@ -296,7 +287,9 @@ bool VehicleInputsNode::initialize() {
   if (!config_.radius_file.empty())
     save_timer_ = nh_.createWallTimer(ros::WallDuration(config_.save_interval_s),
                                       [this](const ros::WallTimerEvent&) { saveRadii("periodic"); });
-  cycle_timer_ = nh_.createTimer(ros::Duration(1.0 / config_.publish_rate_hz), &VehicleInputsNode::cycle, this);
+  // In input time the intake runs the cycles (inputTimeCycles); else the timer, on the node's clock.
+  if (!config_.input_time)
+    cycle_timer_ = nh_.createTimer(ros::Duration(1.0 / config_.publish_rate_hz), &VehicleInputsNode::cycle, this);
   if (config_.marker_rate_hz > 0.0) {
     marker_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("vehicle_markers", 1);
     for (int i = 0; i < kWheelCount; ++i)
@@ -312,7 +305,7 @@ bool VehicleInputsNode::initialize() {
 }
 
 void VehicleInputsNode::shutdown() {
-  if (shut_down_ || !estimator_) return;
+  if (shut_down_ || !pipeline_) return;
   shut_down_ = true;
   cycle_timer_.stop();
   marker_timer_.stop();
@@ -325,17 +318,6 @@ void VehicleInputsNode::shutdown() {
     if (p.speed) p.speed->stop();
     if (p.quality) p.quality->stop();
   }
-}
-
-double VehicleInputsNode::toEstimatorTime(const ros::Time& stamp) {
-  if (!have_epoch_) {
-    // The first stamp seen, a little earlier, keeps the estimator's times small (double precision) and positive.
-    const ros::Time now = ros::Time::now();
-    const ros::Time first = (now.isZero() || stamp < now) ? stamp : now;
-    epoch_ = first.toSec() > 10.0 ? first - ros::Duration(10.0) : ros::Time(0);
-    have_epoch_ = true;
-  }
-  return (stamp - epoch_).toSec();
 }
 
 bool VehicleInputsNode::imuTransform(const std::string& frame_id) {
@@ -359,95 +341,53 @@ bool VehicleInputsNode::imuTransform(const std::string& frame_id) {
     return false;
   }
   const geometry_msgs::Quaternion& q = tf.transform.rotation;
-  imu_rotation_.setRotation(tf2::Quaternion(q.x, q.y, q.z, q.w));
+  const geometry_msgs::Vector3& t = tf.transform.translation;
+  if (!pipeline_->setImuMount({{q.x, q.y, q.z, q.w}}, {{t.x, t.y, t.z}})) {
+    imu_tf_error_ = "the transform " + config_.base_frame + " <- " + frame_id + " is not a rotation";
+    imu_tf_ok_ = false;
+    return false;
+  }
   imu_frame_ = frame_id;
   imu_tf_ok_ = true;
   imu_tf_error_.clear();
-  const geometry_msgs::Vector3& t = tf.transform.translation;
-  const std::array<double, 3> lever{{t.x - config_.cog_position_m[0], t.y - config_.cog_position_m[1],
-                                     t.z - config_.cog_position_m[2]}};
-  if (lever != imu_lever_arm_m_) {
-    imu_lever_arm_m_ = lever;
-    rebuildEstimator();
-  }
+  const std::array<double, 3>& lever = pipeline_->imuLeverArm_m();
   ROS_INFO("vehicle_inputs_node: IMU frame %s -> %s found; lever arm from the CoG [%.3f, %.3f, %.3f] m",
            frame_id.c_str(), config_.base_frame.c_str(), lever[0], lever[1], lever[2]);
   return true;
 }
 
-void VehicleInputsNode::restartIfPending() {
-  if (!restart_pending_) return;
-  restart_pending_ = false;
-  ++restarts_;
-  rebuildEstimator();
-}
-
-void VehicleInputsNode::rebuildEstimator() {
-  // Once, when the IMU's lever arm becomes known: a new estimator with the same learned radii.
-  const std::array<RollingRadiusState, kWheelCount> radii = estimator_->rollingRadii();
-  config_.estimator.imu_position_m = imu_lever_arm_m_;
-  estimator_ = std::make_unique<VehicleInputEstimator>(config_.estimator);
-  estimator_->restoreRollingRadii(radii);
+void VehicleInputsNode::inputTimeCycles(InputStream stream, const ros::Time& stamp) {
+  if (!config_.input_time) return;
+  pipeline_->cyclesBefore(stream, stamp.toSec(), [this](double t_s) {
+    const ros::Time cycle_stamp(t_s);
+    publishWheelInputs(pipeline_->estimate(), cycle_stamp, &publishers_, &stats_, true);
+    ++stats_.cycles;
+  });
 }
 
 void VehicleInputsNode::imuCallback(const sensor_msgs::Imu::ConstPtr& msg) {
-  restartIfPending();
+  inputTimeCycles(InputStream::kImu, msg->header.stamp);
   ++imu_received_;
   if (!imuTransform(msg->header.frame_id)) {
     ++imu_without_tf_;
     return;
   }
-  const tf2::Vector3 f = imu_rotation_ * tf2::Vector3(msg->linear_acceleration.x, msg->linear_acceleration.y,
-                                                      msg->linear_acceleration.z);
-  const tf2::Vector3 w =
-      imu_rotation_ * tf2::Vector3(msg->angular_velocity.x, msg->angular_velocity.y, msg->angular_velocity.z);
-  estimator_->addImu(toEstimatorTime(msg->header.stamp), f.x(), f.y(), f.z(), w.x(), w.y(), w.z());
+  pipeline_->addImu(msg->header.stamp.toSec(),
+                    {{msg->linear_acceleration.x, msg->linear_acceleration.y, msg->linear_acceleration.z}},
+                    {{msg->angular_velocity.x, msg->angular_velocity.y, msg->angular_velocity.z}});
 }
 
 void VehicleInputsNode::jointCallback(const sensor_msgs::JointState::ConstPtr& msg) {
-  restartIfPending();
-  ++joint_received_;
-  const double t = toEstimatorTime(msg->header.stamp);
-  // A wheel joint absent from the message enters as NaN: the estimator rejects that wheel alone (not_finite), it goes
-  // stale and is not published; the other wheels are used. Never an old value in its place.
-  std::array<double, kWheelCount> omega;
-  omega.fill(std::numeric_limits<double>::quiet_NaN());
-  int found = 0;
-  bool steering = false;
-  double steering_angle = 0.0;
-  for (std::size_t k = 0; k < msg->name.size(); ++k) {
-    const std::string& n = msg->name[k];
-    if (n == config_.steering_joint && k < msg->position.size()) {
-      steering = true;
-      steering_angle = msg->position[k];
-      continue;
-    }
-    for (int i = 0; i < kWheelCount; ++i)
-      if (n == config_.wheel_joints[i] && k < msg->velocity.size()) {
-        omega[i] = config_.wheel_velocity_signs[static_cast<std::size_t>(i)] * msg->velocity[k];
-        ++found;
-      }
-  }
-  if (found < kWheelCount) ++joint_without_wheels_;
-  if (found > 0) estimator_->addWheelSpeeds(t, omega);
-  if (steering)
-    estimator_->addSteering(t, steering_angle);
-  else
-    ++joint_without_steering_;
+  inputTimeCycles(InputStream::kJoints, msg->header.stamp);
+  pipeline_->addJoints(msg->header.stamp.toSec(), msg->name, msg->position, msg->velocity);
 }
 
 void VehicleInputsNode::odomCallback(const nav_msgs::Odometry::ConstPtr& msg) {
-  restartIfPending();
-  ++speed_received_;
-  estimator_->addSpeed(toEstimatorTime(msg->header.stamp),
-                       std::hypot(msg->twist.twist.linear.x, msg->twist.twist.linear.y));
+  pipeline_->addSpeed(msg->header.stamp.toSec(), msg->twist.twist.linear.x, msg->twist.twist.linear.y);
 }
 
 void VehicleInputsNode::twistCallback(const geometry_msgs::TwistWithCovarianceStamped::ConstPtr& msg) {
-  restartIfPending();
-  ++speed_received_;
-  estimator_->addSpeed(toEstimatorTime(msg->header.stamp),
-                       std::hypot(msg->twist.twist.linear.x, msg->twist.twist.linear.y));
+  pipeline_->addSpeed(msg->header.stamp.toSec(), msg->twist.twist.linear.x, msg->twist.twist.linear.y);
 }
 
 void VehicleInputsNode::cycle(const ros::TimerEvent& event) {
@@ -456,12 +396,9 @@ void VehicleInputsNode::cycle(const ros::TimerEvent& event) {
   const double period_s = 1.0 / config_.publish_rate_hz;
   bool overrun = !event.last_real.isZero() && (event.current_real - event.current_expected).toSec() > period_s;
   const ros::Time now = event.current_real.isZero() ? ros::Time::now() : event.current_real;
-  if (!estimator_->estimate(toEstimatorTime(now), &estimate_)) {
-    // The clock went backwards (a looped bag, a sim-time reset): the next callback restarts the estimator.
-    ++stats_.clock_faults;
-    restart_pending_ = true;
-  }
-  publishWheelInputs(estimate_, now, &publishers_, &stats_);
+  // A backward clock (a looped bag, a sim-time reset) is refused; the next sample restarts the estimator.
+  if (!pipeline_->cycle(now.toSec())) ++stats_.clock_faults;
+  publishWheelInputs(pipeline_->estimate(), now, &publishers_, &stats_);
   const double cpu_us = threadCpu_us() - cpu0, wall_us = steady_us() - wall0;
   ++stats_.cycles;
   stats_.last_cpu_us = cpu_us;
@@ -476,14 +413,14 @@ void VehicleInputsNode::cycle(const ros::TimerEvent& event) {
 void VehicleInputsNode::publishMarkers(const ros::TimerEvent&) {
   if (marker_pub_.getNumSubscribers() == 0) return;
   visualization_msgs::MarkerArray array;
-  appendVehicleMarkers(config_, estimate_, wear_, ros::Time::now(), &array);
+  appendVehicleMarkers(config_, pipeline_->estimate(), wear_, ros::Time::now(), &array);
   marker_pub_.publish(array);
 }
 
 void VehicleInputsNode::saveRadii(const char* why) {
-  if (config_.radius_file.empty() || !estimator_) return;
+  if (config_.radius_file.empty() || !pipeline_) return;
   std::string error;
-  if (saveRollingRadii(config_.radius_file, config_.wheel_names, estimator_->rollingRadii(), wallNow_s(), &error)) {
+  if (saveRollingRadii(config_.radius_file, config_.wheel_names, pipeline_->estimator().rollingRadii(), wallNow_s(), &error)) {
     radius_save_error_.clear();
     last_save_ = ros::WallTime::now();
   } else {
@@ -495,11 +432,13 @@ void VehicleInputsNode::saveRadii(const char* why) {
 void VehicleInputsNode::sensorDiagnostics(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   int level = diagnostic_msgs::DiagnosticStatus::OK;
   std::ostringstream message;
-  const VehicleInputEstimator& e = *estimator_;
+  const VehicleInputEstimator& e = pipeline_->estimator();
+  const VehicleInputEstimate& estimate = pipeline_->estimate();
+  const IntakeCounters& intake = pipeline_->counters();
   for (int s = 0; s < kSensorCount; ++s) {
     const Sensor sensor = static_cast<Sensor>(s);
     const std::string name = sensorName(sensor);
-    const bool fresh = estimate_.sensor_fresh[static_cast<std::size_t>(s)];
+    const bool fresh = estimate.sensor_fresh[static_cast<std::size_t>(s)];
     stat.add(name + " fresh", fresh);
     for (SampleFault f : kRejections)
       stat.addf(name + " " + sampleFaultName(f), "%lu", static_cast<unsigned long>(e.faultCount(sensor, f)));
@@ -522,19 +461,19 @@ void VehicleInputsNode::sensorDiagnostics(diagnostic_updater::DiagnosticStatusWr
     level = std::max<int>(level, diagnostic_msgs::DiagnosticStatus::WARN);
     message << "no transform " << config_.base_frame << " <- IMU frame: IMU not used; ";
   }
-  stat.addf("joint_states received", "%lu", static_cast<unsigned long>(joint_received_));
-  stat.addf("joint_states without all wheel joints", "%lu", static_cast<unsigned long>(joint_without_wheels_));
-  stat.addf("joint_states without steering joint", "%lu", static_cast<unsigned long>(joint_without_steering_));
-  stat.addf("speed received", "%lu", static_cast<unsigned long>(speed_received_));
-  stat.add("speed source", speedSourceName(estimate_.speed_source));
-  stat.add("yaw rate source", yawRateSourceName(estimate_.yaw_rate_source));
-  stat.add("acceleration source", accelSourceName(estimate_.accel_source));
-  stat.add("steering source", steerSourceName(estimate_.steer_source));
-  stat.add("valid", estimate_.valid);
-  stat.addf("speed [m/s]", "%.3f", estimate_.speed_mps);
-  stat.addf("yaw rate [rad/s]", "%.4f", estimate_.yaw_rate_rps);
+  stat.addf("joint_states received", "%lu", static_cast<unsigned long>(intake.joints));
+  stat.addf("joint_states without all wheel joints", "%lu", static_cast<unsigned long>(intake.joints_without_wheels));
+  stat.addf("joint_states without steering joint", "%lu", static_cast<unsigned long>(intake.joints_without_steering));
+  stat.addf("speed received", "%lu", static_cast<unsigned long>(intake.speed));
+  stat.add("speed source", speedSourceName(estimate.speed_source));
+  stat.add("yaw rate source", yawRateSourceName(estimate.yaw_rate_source));
+  stat.add("acceleration source", accelSourceName(estimate.accel_source));
+  stat.add("steering source", steerSourceName(estimate.steer_source));
+  stat.add("valid", estimate.valid);
+  stat.addf("speed [m/s]", "%.3f", estimate.speed_mps);
+  stat.addf("yaw rate [rad/s]", "%.4f", estimate.yaw_rate_rps);
   stat.addf("gated wheel updates", "%lu", static_cast<unsigned long>(e.gatedWheelUpdates()));
-  if (!estimate_.valid) {
+  if (!estimate.valid) {
     level = diagnostic_msgs::DiagnosticStatus::ERROR;
     message << "no speed source: nothing published; ";
   }
@@ -543,8 +482,8 @@ void VehicleInputsNode::sensorDiagnostics(diagnostic_updater::DiagnosticStatusWr
 }
 
 void VehicleInputsNode::wheelDiagnostics(int wheel, diagnostic_updater::DiagnosticStatusWrapper& stat) {
-  const WheelInputEstimate& w = estimate_.wheels[static_cast<std::size_t>(wheel)];
-  const bool publishable = wheelPublishable(estimate_, wheel);
+  const WheelInputEstimate& w = pipeline_->estimate().wheels[static_cast<std::size_t>(wheel)];
+  const bool publishable = pipeline_->publishable(wheel);
   int level = diagnostic_msgs::DiagnosticStatus::OK;
   for (EstimateQuality q : {w.load_quality, w.slip_angle_quality, w.slip_ratio_quality})
     if (q == EstimateQuality::kDegraded) level = std::max<int>(level, diagnostic_msgs::DiagnosticStatus::WARN);
@@ -556,7 +495,7 @@ void VehicleInputsNode::wheelDiagnostics(int wheel, diagnostic_updater::Diagnost
   stat.addf("speed [m/s]", "%.3f", w.speed_mps);
   stat.addf("steer angle [rad]", "%.5f", w.steer_angle_rad);
   stat.addf("rolling radius [m]", "%.5f", w.rolling_radius_m);
-  stat.add("radius converged", estimator_->radiusConverged(wheel));
+  stat.add("radius converged", pipeline_->estimator().radiusConverged(wheel));
   stat.add("load quality", estimateQualityName(w.load_quality));
   stat.add("slip angle quality", estimateQualityName(w.slip_angle_quality));
   stat.add("slip ratio quality", estimateQualityName(w.slip_ratio_quality));
@@ -570,6 +509,7 @@ void VehicleInputsNode::wheelDiagnostics(int wheel, diagnostic_updater::Diagnost
   if (w.flags & kFlagSteeringModel) text += "; steering from the single-track model";
   if (w.flags & kFlagRadiusNotConverged) text += "; radius not converged";
   if (w.flags & kFlagLowSpeed) text += "; low speed";
+  if (w.flags & kFlagSlipRatioFromForce) text += "; slip ratio from the force demand";
   stat.summary(static_cast<unsigned char>(level), text);
 }
 
@@ -584,7 +524,7 @@ void VehicleInputsNode::cycleDiagnostics(diagnostic_updater::DiagnosticStatusWra
   stat.addf("deadline overruns", "%lu", static_cast<unsigned long>(stats_.overruns));
   stat.addf("skipped publications", "%lu", static_cast<unsigned long>(stats_.skipped_publications));
   stat.addf("clock faults", "%lu", static_cast<unsigned long>(stats_.clock_faults));
-  stat.addf("estimator restarts", "%lu", static_cast<unsigned long>(restarts_));
+  stat.addf("estimator restarts", "%lu", static_cast<unsigned long>(pipeline_->counters().restarts));
   stat.addf("cycles without speed source", "%lu", static_cast<unsigned long>(stats_.invalid_cycles));
   if (stats_.clock_faults > 0)
     stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
@@ -600,7 +540,7 @@ void VehicleInputsNode::radiusDiagnostics(diagnostic_updater::DiagnosticStatusWr
   stat.add("restore", radius_restore_);
   if (!last_save_.isZero()) stat.addf("seconds since last save", "%.1f", (ros::WallTime::now() - last_save_).toSec());
   for (int i = 0; i < kWheelCount; ++i) {
-    const RollingRadiusState& s = estimator_->rollingRadii()[static_cast<std::size_t>(i)];
+    const RollingRadiusState& s = pipeline_->estimator().rollingRadii()[static_cast<std::size_t>(i)];
     stat.addf(config_.wheel_names[i] + " radius [m]", "%.5f", s.radius_m);
     stat.addf(config_.wheel_names[i] + " learned distance [m]", "%.1f", s.learned_distance_m);
   }

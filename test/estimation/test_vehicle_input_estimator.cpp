@@ -415,7 +415,8 @@ TEST(VehicleInputEstimatorFaults, NaNSamplesAreRejectedAndCounted) {
   EXPECT_EQ(est.faultCount(Sensor::kSpeed, SampleFault::kOutOfRange), 1u);
   EXPECT_EQ(est.faultCount(Sensor::kWheelSpeed, SampleFault::kOutOfRange), 1u);
 
-  // A wheel that only sends NaN on a drive: its slip ratio is NaN and invalid, the others stay good.
+  // A wheel that only sends NaN on a drive: its slip ratio comes from its force demand (degraded, flagged), the
+  // others stay good.
   const Trace tr = makeTrace(kManoeuvreStart + 10.0, none, none);
   Injection inj;
   inj.wheels = [](double t, std::array<double, kWheelCount>* w) {
@@ -425,13 +426,95 @@ TEST(VehicleInputEstimatorFaults, NaNSamplesAreRejectedAndCounted) {
   const RunResult r = run(tr, kManoeuvreStart + 1.0, carParams(), SensorSpec(), 10, inj, &drive);
   EXPECT_GE(drive.faultCount(Sensor::kWheelSpeed, SampleFault::kNotFinite), 999u);
   const WheelInputEstimate& rl = r.last.wheels[kRearLeft];
-  EXPECT_TRUE(std::isnan(rl.slip_ratio));
-  EXPECT_EQ(rl.slip_ratio_quality, EstimateQuality::kInvalid);
+  EXPECT_TRUE(std::isfinite(rl.slip_ratio));
+  EXPECT_EQ(rl.slip_ratio_quality, EstimateQuality::kDegraded);
   EXPECT_TRUE(rl.flags & kFlagWheelSpeedMissing);
+  EXPECT_TRUE(rl.flags & kFlagSlipRatioFromForce);
+  EXPECT_FALSE(r.last.wheels[kRearRight].flags & kFlagSlipRatioFromForce);
   EXPECT_EQ(r.last.wheels[kRearRight].slip_ratio_quality, EstimateQuality::kGood);
   EXPECT_TRUE(r.last.valid);
   EXPECT_LE(r.slip_ratio.rms(), kSlipRatioTarget);
   EXPECT_LE(r.slip_angle.rms(), kSlipAngleTarget_deg);
+}
+
+/// Scores every cycle from `from_s` on, whatever its quality: the wheel's slip ratio against the truth, the
+/// flags and qualities that say how it was estimated.
+struct FallbackScore {
+  ErrorStat slip_ratio, slip_angle_deg;
+  long cycles = 0, from_force = 0, degraded = 0, not_finite = 0;
+};
+
+Injection scoreFallback(double from_s, const std::array<bool, kWheelCount>& missing, FallbackScore* score) {
+  Injection inj;
+  inj.check = [=](double t, const VehicleInputEstimate& e, const VehicleState& truth) {
+    if (t < from_s) return;
+    ++score->cycles;
+    for (int i = 0; i < kWheelCount; ++i) {
+      const auto ui = static_cast<std::size_t>(i);
+      if (!missing[ui]) continue;
+      const WheelInputEstimate& w = e.wheels[ui];
+      if (!std::isfinite(w.slip_ratio) || !std::isfinite(w.slip_angle_rad)) {
+        ++score->not_finite;
+        continue;
+      }
+      score->from_force += (w.flags & kFlagSlipRatioFromForce) != 0u ? 1 : 0;
+      score->degraded += w.slip_ratio_quality == EstimateQuality::kDegraded ? 1 : 0;
+      score->slip_ratio.add(w.slip_ratio - truth.wheels[ui].slip_ratio);
+      score->slip_angle_deg.add((w.slip_angle_rad - truth.wheels[ui].slip_angle_rad) / kDeg);
+    }
+  };
+  return inj;
+}
+
+TEST(VehicleInputEstimatorFaults, WithoutAnyWheelSpeedTheSlipsComeFromTheLateralEstimateAndTheForceDemand) {
+  // Accelerate at 2 m/s^2, brake at -5 m/s^2, corner at 3 m/s^2 with no wheel speed at all (every wheel NaN):
+  // speed from the lagged reference speed and the IMU, slip angles from the lateral estimate, slip ratios from the
+  // force demand. Held to the same targets as with wheel speeds, on every cycle (degraded ones included).
+  const double t1 = 10.0 / 2.0 + 0.5, t2 = t1 + 5.0, t3 = t2 + 20.0 / 5.0 + 0.5;
+  const auto accel = [=](double t) { return pulse(t, 0.0, t1, 2.0) + pulse(t, t2, t3, -5.0); };
+  const auto kappa = [=](double t) { return 0.0075 * smoothstep((t - t3 - 2.0) / 3.0); };
+  const Trace tr = makeTrace(kManoeuvreStart + t3 + 15.0, accel, kappa);
+  FallbackScore score;
+  Injection inj = scoreFallback(kManoeuvreStart, {{true, true, true, true}}, &score);
+  inj.wheels = [](double, std::array<double, kWheelCount>* w) { w->fill(kNaN); };
+  VehicleInputEstimator est(estimatorParams(carParams(), SensorSpec()));
+  const RunResult r = run(tr, kManoeuvreStart, carParams(), SensorSpec(), 12, inj, &est);
+  std::printf("no wheel speeds: slip ratio RMS %.5f worst %.5f, slip angle RMS %.4f deg worst %.4f deg (%ld cycles)\n",
+              score.slip_ratio.rms(), score.slip_ratio.worst, score.slip_angle_deg.rms(), score.slip_angle_deg.worst,
+              score.cycles);
+  EXPECT_TRUE(r.last.valid);
+  EXPECT_EQ(r.last.speed_source, SpeedSource::kReferenceSpeed);
+  EXPECT_EQ(score.not_finite, 0);
+  EXPECT_EQ(score.from_force, 4 * score.cycles);
+  EXPECT_EQ(score.degraded, 4 * score.cycles);
+  EXPECT_LE(score.slip_ratio.rms(), kSlipRatioTarget);
+  EXPECT_LE(score.slip_angle_deg.rms(), kSlipAngleTarget_deg);
+  for (const WheelInputEstimate& w : r.last.wheels) {
+    EXPECT_TRUE(w.flags & kFlagWheelSpeedMissing);
+    EXPECT_EQ(w.load_quality, EstimateQuality::kGood);
+  }
+}
+
+TEST(VehicleInputEstimatorFaults, OneWheelWithoutSpeedGetsItsSlipRatioFromTheForceDemand) {
+  // The driven front left wheel's speed stops during acceleration and braking; the others keep theirs.
+  const double t1 = 10.0 / 2.0 + 0.5, t2 = t1 + 5.0, t3 = t2 + 20.0 / 5.0 + 0.5;
+  const auto accel = [=](double t) { return pulse(t, 0.0, t1, 2.0) + pulse(t, t2, t3, -5.0); };
+  const Trace tr = makeTrace(kManoeuvreStart + t3 + 5.0, accel, none);
+  FallbackScore score;
+  Injection inj = scoreFallback(kManoeuvreStart, {{true, false, false, false}}, &score);
+  inj.wheels = [](double t, std::array<double, kWheelCount>* w) {
+    if (t >= kManoeuvreStart - 1.0) (*w)[kFrontLeft] = kNaN;
+  };
+  VehicleInputEstimator est(estimatorParams(carParams(), SensorSpec()));
+  const RunResult r = run(tr, kManoeuvreStart, carParams(), SensorSpec(), 13, inj, &est);
+  std::printf("front left without speed: slip ratio RMS %.5f worst %.5f\n", score.slip_ratio.rms(),
+              score.slip_ratio.worst);
+  EXPECT_EQ(score.not_finite, 0);
+  EXPECT_EQ(score.from_force, score.cycles);
+  EXPECT_LE(score.slip_ratio.rms(), kSlipRatioTarget);
+  EXPECT_EQ(r.last.speed_source, SpeedSource::kWheels);
+  EXPECT_EQ(r.last.wheels[kFrontRight].slip_ratio_quality, EstimateQuality::kGood);
+  EXPECT_LE(r.slip_ratio.rms(), kSlipRatioTarget);  // the three wheels with their speeds
 }
 
 TEST(VehicleInputEstimatorFaults, FrozenWheelIsDetected) {
@@ -448,8 +531,9 @@ TEST(VehicleInputEstimatorFaults, FrozenWheelIsDetected) {
   EXPECT_GT(est.faultCount(Sensor::kWheelSpeed, SampleFault::kFrozen), 800u);
   const WheelInputEstimate& fr = r.last.wheels[kFrontRight];
   EXPECT_TRUE(fr.flags & kFlagWheelFrozen);
-  EXPECT_EQ(fr.slip_ratio_quality, EstimateQuality::kInvalid);
-  EXPECT_TRUE(std::isnan(fr.slip_ratio));
+  EXPECT_EQ(fr.slip_ratio_quality, EstimateQuality::kDegraded);
+  EXPECT_TRUE(fr.flags & kFlagSlipRatioFromForce);
+  EXPECT_TRUE(std::isfinite(fr.slip_ratio));
   EXPECT_EQ(r.last.wheels[kFrontLeft].slip_ratio_quality, EstimateQuality::kGood);
   EXPECT_LE(r.slip_ratio.rms(), kSlipRatioTarget);
 }

@@ -31,7 +31,7 @@
 #include "tread_wear/ros/node_config.h"
 #include "tread_wear/ros/node_diagnostics.h"
 #include "tread_wear/ros/node_help.h"
-#include "tread_wear/ros/node_persistence.h"
+#include "tread_wear/pipeline/node_persistence.h"
 #include "tread_wear/ros/node_reconfigure.h"
 #include "tread_wear/ros/node_services.h"
 #include "tread_wear/ros/realtime_publisher.h"
@@ -393,13 +393,13 @@ TEST(WheelPipeline, TheLoopStepAndMessageAllocateNothing) {
   reserveStrings(&msg);
   feed(&w, 1.0);
   w.step(1.0, stepSettings(Preset::kFast, 0.0));
-  w.fillMessage(ros::Time(1.0), Preset::kFast, &msg);  // the first message sets the wheel's names
+  fillMessage(w, ros::Time(1.0), Preset::kFast, &msg);  // the first message sets the wheel's names
   const long before = t_allocations;
   for (int k = 1; k <= 20; ++k) {
     const double t = 1.0 + 0.02 * k;
     feed(&w, t);
     w.step(t, stepSettings(k < 10 ? Preset::kFast : Preset::kStandard, k % 2 ? 0.0 : 1e-3));
-    w.fillMessage(ros::Time(t), Preset::kStandard, &msg);
+    fillMessage(w, ros::Time(t), Preset::kStandard, &msg);
   }
   EXPECT_EQ(t_allocations - before, 0);
   EXPECT_EQ(msg.status, tread_wear::WheelWear::STATUS_OK);

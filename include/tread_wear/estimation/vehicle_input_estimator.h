@@ -56,7 +56,10 @@
 ///   specific force IMU -> derivative of the wheel/reference speed and f_y = v_x r on a flat road (loads degraded)
 ///   speed          wheels (+ IMU) -> reference speed -> IMU dead reckoning for max_dead_reckoning_s -> none
 ///   steering       measured -> front slip angles from the single-track model alpha_f = -m f_y,c l_r/(L c_f Fz_f)
-///   slip ratio     needs the wheel's own speed; degraded while its radius has not converged.
+///   slip ratio     the wheel's own speed (degraded while its radius has not converged) -> without it (missing,
+///                  stale, rejected or frozen, one wheel or all four) kappa_prior,i, the slip of the wheel's
+///                  quasi-steady force demand (drive layout, brake balance, slip stiffness; flag
+///                  kFlagSlipRatioFromForce, quality kDegraded), so that wear goes on and says how it was estimated.
 /// Below min_slip_speed a slip angle / slip ratio is undefined: value 0 with quality kLowSpeed.
 /// Assumptions and limits: rigid body, quasi-steady load transfer (no pitch/roll dynamics, no roll-centre
 /// heights, no aero lift); linear single-track cornering for the lateral pseudo-measurement (its error sets the
@@ -173,7 +176,8 @@ enum WheelEstimateFlag : std::uint32_t {
   kFlagRadiusNotConverged = 1u << 2,  ///< rolling radius still nominal / not yet learned over enough distance
   kFlagSteeringModel = 1u << 3,       ///< front slip angle from the single-track model (no steering)
   kFlagNoImu = 1u << 4,               ///< loads and lateral model on the flat-road fallback
-  kFlagLowSpeed = 1u << 5             ///< below min_slip_speed
+  kFlagLowSpeed = 1u << 5,            ///< below min_slip_speed
+  kFlagSlipRatioFromForce = 1u << 6   ///< slip ratio from the force demand (kappa_prior): no speed of its own
 };
 
 struct WheelInputEstimate {
@@ -242,6 +246,10 @@ class VehicleInputEstimator {
   std::uint64_t clockFaults() const { return clock_faults_; }
   std::uint64_t gatedWheelUpdates() const { return gated_wheel_updates_; }
 
+  /// A new IMU mount (imu_mount_rpy_rad, imu_position_m of the params), e.g. once its transform is known; the state
+  /// goes on. false (unchanged) for a non-finite value or an angle outside [-pi, pi].
+  bool setImuMount(const std::array<double, 3>& rpy_rad, const std::array<double, 3>& position_m);
+
   /// Rolling radii with their learned distance, to persist; restore at start-up (false: rejected, unchanged).
   const std::array<RollingRadiusState, kWheelCount>& rollingRadii() const { return learner_.state(); }
   bool restoreRollingRadii(const std::array<RollingRadiusState, kWheelCount>& state) { return learner_.restore(state); }
@@ -258,6 +266,42 @@ class VehicleInputEstimator {
     double stamp_s = -1e300;
     double value = 0.0;
   };
+  /// One estimate() cycle's intermediate values, in the order its steps compute them (a member: no allocation).
+  struct Cycle {
+    double t_s = 0.0, dt = 0.0;  ///< cycle time and step [s]
+    bool restart = false;        ///< the observer restarts at this cycle
+    bool imu_ok = false, steer_ok = false, speed_ok = false;
+    std::array<bool, kWheelCount> wheel_ok{};
+    int wheels_ok = 0;
+    bool standstill = false;
+    std::array<double, 3> f_b{}, w_b{};  ///< body-axis specific force [m/s^2] and rates [rad/s] at the IMU
+    double r = 0.0;                      ///< yaw rate [rad/s]
+    YawRateSource yaw_source = YawRateSource::kNone;
+    double delta_mean = 0.0;             ///< mean front road-wheel angle [rad]
+    std::array<double, kWheelCount> delta{};  ///< road-wheel angles [rad]
+    double v_direct = 0.0;               ///< speed from the wheels or the reference speed [m/s]
+    bool have_direct = false;
+    std::array<double, 3> f{};           ///< specific force at the CoG (IMU or flat-road fallback) [m/s^2]
+    AccelSource accel_source = AccelSource::kNone;
+    double fx_l = 0.0, fy_l = 0.0;       ///< filtered f_x and complementary f_y,c [m/s^2]
+    double b_x = 0.0, b_y = 0.0;         ///< the observer's specific-force offsets (grade, bank) [m/s^2]
+    double a_long = 0.0;                 ///< kinematic longitudinal acceleration [m/s^2]
+    std::array<double, kWheelCount> fz{}, prior{};  ///< loads [N] and slip priors kappa_prior [-]
+  };
+  // The steps of estimate(), in order.
+  void selectSensors(Cycle* c);    ///< which sensors are fresh (stale ones counted)
+  void bodyMotion(Cycle* c);       ///< IMU mean, standstill and gyro bias, body-axis force and rates
+  void yawRate(Cycle* c);          ///< yaw rate with its fallbacks, steer angles
+  void directSpeed(Cycle* c);      ///< speed from wheels or reference, its derivative
+  void specificForce(Cycle* c);    ///< force at the CoG, its filter, observer restart or prediction
+  void loads(Cycle* c);            ///< load transfer and slip priors
+  bool correctObserver(Cycle* c);  ///< every measurement update; true when a speed was measured
+  bool correctWithWheels(const Cycle& c);
+  bool correctWithReferenceSpeed(const Cycle& c);  ///< and the rolling-radius learning
+  void correctWithLateralModel(const Cycle& c, bool speed_measured);
+  void writeVehicle(const Cycle& c, VehicleInputEstimate* out);
+  void writeWheel(const Cycle& c, int wheel, VehicleInputEstimate* out) const;
+
   SampleFault reject(Sensor sensor, SampleFault fault);
   bool fresh(const Stamped& s, double t_s, double timeout_s) const;
   void steerAngles(double delta_mean, std::array<double, kWheelCount>* delta) const;
@@ -299,6 +343,7 @@ class VehicleInputEstimator {
 
   std::array<std::array<std::uint64_t, kSampleFaultCount>, kSensorCount> faults_{};
   std::uint64_t clock_faults_ = 0, gated_wheel_updates_ = 0;
+  Cycle cycle_;
 };
 
 }  // namespace tread_wear

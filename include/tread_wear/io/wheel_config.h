@@ -72,6 +72,10 @@ struct NodeConfig {
 bool readNodeConfig(const ConfigValue& document, const std::string& default_config_dir, NodeConfig* config,
                     std::string* error);
 
+/// A YAML file as the tree the parameter server would hold after `rosparam load` (booleans and numbers as rosparam
+/// reads them, quoted scalars strings). @throw std::runtime_error "<path>: <what>" for an unreadable file or bad YAML
+ConfigValue loadConfigDocument(const std::string& path);
+
 /// Reads a YAML wheel configuration file through readNodeConfig(); config_dir defaults to the file's directory.
 /// @throw std::runtime_error "<path>: <what>" for an unreadable file, bad YAML or an invalid configuration
 NodeConfig loadNodeConfigFile(const std::string& path);

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "tread_wear/ros/loop_status.h"
-#include "tread_wear/ros/node_persistence.h"
+#include "tread_wear/pipeline/node_persistence.h"
 #include "tread_wear/ros/node_reconfigure.h"
 #include "tread_wear/ros/wheel_pipeline.h"
 

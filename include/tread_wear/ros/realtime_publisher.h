@@ -40,7 +40,16 @@ class RealtimePublisher {
     }
     return true;
   }
-  /// The preallocated message; only between a successful trylock() and unlockAndPublish().
+  /// Off the real-time path (a replay in input time, where every message counts): waits until the publisher thread
+  /// has taken the previous message, then holds the slot as a successful trylock() does. false once stopped.
+  bool lock() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    taken_.wait(lock, [this] { return !pending_ || !running_; });
+    if (!running_) return false;
+    lock.release();
+    return true;
+  }
+  /// The preallocated message; only between a successful trylock() or lock() and unlockAndPublish().
   Msg& msg() { return msg_; }
   void unlockAndPublish() {
     pending_ = true;
@@ -55,6 +64,7 @@ class RealtimePublisher {
       std::lock_guard<std::mutex> lock(mutex_);
     }
     cv_.notify_one();
+    taken_.notify_all();
     if (thread_.joinable()) thread_.join();
   }
 
@@ -69,6 +79,7 @@ class RealtimePublisher {
         outgoing = msg_;
         pending_ = false;
       }
+      taken_.notify_all();
       sink_(outgoing);
     }
   }
@@ -77,6 +88,7 @@ class RealtimePublisher {
   Msg msg_;
   std::mutex mutex_;
   std::condition_variable cv_;
+  std::condition_variable taken_;  ///< the thread took a message: the slot is free for lock()
   bool pending_ = false;  // guarded by mutex_
   std::atomic<bool> running_{true};
   std::thread thread_;  // last: starts once everything above is constructed

@@ -5,8 +5,9 @@
 ///
 /// Parts, each in its own file pair and tested alone (test/ros/test_node_parts.cpp):
 ///   configuration  node_config.h (parameter server -> io/wheel_config.h, shared with the replay)
-///   per wheel      wheel_pipeline.h (inputs, live model and estimator, planner model, message fill)
-///   persistence    node_persistence.h;  services  node_services.h;  diagnostics  node_diagnostics.h
+///   per wheel      pipeline/wheel_pipeline.h (inputs, live model and estimator, planner model), its message
+///                  wheel_pipeline.h
+///   persistence    pipeline/node_persistence.h;  services  node_services.h;  diagnostics  node_diagnostics.h
 ///   planner        node_planner.h (evaluate_trajectories, wear_map; its map builder thread)
 ///   markers        wear_markers.h;      reconfigure  node_reconfigure.h;  publishing  realtime_publisher.h
 ///
@@ -33,10 +34,10 @@
 #include "tread_wear/VehicleWear.h"
 #include "tread_wear/WheelWear.h"
 #include "tread_wear/io/wheel_config.h"
+#include "tread_wear/pipeline/node_persistence.h"
 #include "tread_wear/ros/loop_status.h"
 #include "tread_wear/ros/node_diagnostics.h"
 #include "tread_wear/ros/node_planner.h"
-#include "tread_wear/ros/node_persistence.h"
 #include "tread_wear/ros/node_reconfigure.h"
 #include "tread_wear/ros/realtime_publisher.h"
 #include "tread_wear/ros/wear_markers.h"

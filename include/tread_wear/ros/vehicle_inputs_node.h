@@ -1,14 +1,15 @@
 #pragma once
 /// @file vehicle_inputs_node.h
-/// ROS front end of VehicleInputEstimator (estimation/vehicle_input_estimator.h): from the car's own sensors
+/// ROS driver of VehicleInputPipeline (estimation/vehicle_input_pipeline.h): from the car's own sensors
 /// (sensor_msgs/Imu, sensor_msgs/JointState with the wheel speeds and the steering-wheel angle, and a reference
 /// speed from nav_msgs/Odometry or geometry_msgs/TwistWithCovarianceStamped) to the wear node's per-wheel inputs
 /// wheels/<name>/{load,slip,speed} plus wheels/<name>/input_quality, at a fixed rate. docs/vehicle_inputs_node.md.
 ///
-/// Time: every sample enters the estimator at its header stamp (not its arrival time); the cycle estimates at the
-/// node's clock (ros::Time::now(), the bag's time under use_sim_time). IMU axes are rotated into base_frame with
-/// the IMU frame's transform from tf2 before addImu; the lever arm is the transform's translation minus the CoG
-/// position. Without a transform the IMU is not used (the estimator's fallback, a diagnostic), never identity.
+/// Time: every sample enters the pipeline at its header stamp (not its arrival time); the cycle estimates at the
+/// node's clock (ros::Time::now(), the bag's time under use_sim_time), or with input_time in the samples' own stamps
+/// (the pipeline's grid: the same per-wheel inputs as tread_wear_vehicle_inputs on the same bag). The IMU's mount is
+/// the IMU frame's transform from tf2 (VehicleInputPipeline::setImuMount). Without a transform the IMU is not used
+/// (the estimator's fallback, a diagnostic), never identity.
 /// Threads: every callback and the cycle run on one spinner thread (no locks on the estimator); the publishers'
 /// threads serialise (RealtimePublisher). The cycle allocates nothing, logs nothing and does no blocking I/O.
 
@@ -18,7 +19,6 @@
 #include <ros/ros.h>
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/JointState.h>
-#include <tf2/LinearMath/Matrix3x3.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 #include <visualization_msgs/MarkerArray.h>
@@ -34,18 +34,16 @@
 #include "tread_wear/WheelSlip.h"
 #include "tread_wear/WheelSpeed.h"
 #include "tread_wear/WheelWear.h"
-#include "tread_wear/estimation/vehicle_input_estimator.h"
+#include "tread_wear/estimation/vehicle_input_pipeline.h"
 #include "tread_wear/ros/realtime_publisher.h"
 #include "tread_wear/ros/vehicle_inputs_config.h"
 
 namespace tread_wear {
 
-/// Fills the quality message of one wheel from the estimate (no allocation: the wheel name is set once).
+/// Fills the quality message of one wheel from the estimate's record (inputQuality, estimation/vehicle_input_pipeline.h;
+/// no allocation: the wheel name is set once).
 void fillInputQuality(const VehicleInputEstimate& estimate, int wheel, bool published,
                       tread_wear::WheelInputQuality* msg);
-/// True when every quantity the wear node needs of this wheel has a source (load, slip angle, slip ratio valid
-/// and finite, speed and curvature finite) and the estimate as a whole is valid.
-bool wheelPublishable(const VehicleInputEstimate& estimate, int wheel);
 
 /// rviz markers of the car in base_frame (not real-time; allocates): ns "vehicle/body" a translucent box over the
 /// wheelbase and tracks, "vehicle/wheels" the four wheels (cylinders at the wheel centres, the front ones turned by
@@ -84,9 +82,11 @@ struct VehicleInputPublishers {
 
 /// The publication step of the cycle: per wheel, load/slip/speed when wheelPublishable() (else none), and always the
 /// quality message, stamped `now`; counts published, withheld and skipped (publisher busy) in *stats. Allocates
-/// nothing, logs nothing, never blocks (try_lock hand-over).
+/// nothing, logs nothing, never blocks (try_lock hand-over); with wait_for_slot (input time, off the real-time path,
+/// where a skipped message would be a lost cycle) it waits for each publisher instead.
 void publishWheelInputs(const VehicleInputEstimate& estimate, const ros::Time& now,
-                        std::array<VehicleInputPublishers, kWheelCount>* publishers, CycleStats* stats);
+                        std::array<VehicleInputPublishers, kWheelCount>* publishers, CycleStats* stats,
+                        bool wait_for_slot = false);
 
 class VehicleInputsNode {
  public:
@@ -99,11 +99,9 @@ class VehicleInputsNode {
   void shutdown();
 
  private:
-  double toEstimatorTime(const ros::Time& stamp);
   bool imuTransform(const std::string& frame_id);
-  void rebuildEstimator();
-  /// After a backward clock step (cycle): a new estimator with the learned radii, from a callback (allocates).
-  void restartIfPending();
+  /// Input time: the cycles due before a sample stamped `stamp`, each published at its own time.
+  void inputTimeCycles(InputStream stream, const ros::Time& stamp);
   void imuCallback(const sensor_msgs::Imu::ConstPtr& msg);
   void jointCallback(const sensor_msgs::JointState::ConstPtr& msg);
   void odomCallback(const nav_msgs::Odometry::ConstPtr& msg);
@@ -118,8 +116,7 @@ class VehicleInputsNode {
 
   ros::NodeHandle nh_, pnh_;
   VehicleInputsConfig config_;
-  std::unique_ptr<VehicleInputEstimator> estimator_;
-  VehicleInputEstimate estimate_;
+  std::unique_ptr<VehicleInputPipeline> pipeline_;
   tf2_ros::Buffer tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   ros::Subscriber imu_sub_, joint_sub_, speed_sub_;
@@ -132,26 +129,16 @@ class VehicleInputsNode {
   ros::WallTimer diagnostics_timer_, save_timer_;
   bool shut_down_ = false;
 
-  // time base: estimator time = header stamp - epoch [s]
-  bool have_epoch_ = false;
-  ros::Time epoch_;
-
   // IMU mounting from tf
   std::string imu_frame_;            ///< frame of the cached transform
   bool imu_tf_ok_ = false;
-  tf2::Matrix3x3 imu_rotation_;      ///< IMU axes -> base_frame
-  std::array<double, 3> imu_lever_arm_m_{{0.0, 0.0, 0.0}};  ///< IMU origin from the CoG in base_frame [m]
   std::string imu_tf_error_ = "no IMU message yet";
   std::string imu_frame_attempted_;  ///< frame of the last lookup attempt
   ros::WallTime last_tf_attempt_;
   std::uint64_t imu_received_ = 0, imu_without_tf_ = 0;
-  std::uint64_t joint_received_ = 0, joint_without_wheels_ = 0, joint_without_steering_ = 0, speed_received_ = 0;
   std::array<std::uint64_t, kSensorCount> rejected_at_last_report_{};
 
   CycleStats stats_;
-  bool restart_pending_ = false;
-  std::uint64_t restarts_ = 0;
-  ros::Time last_cycle_start_;
 
   // rolling radii persistence
   std::string radius_restore_ = "off";

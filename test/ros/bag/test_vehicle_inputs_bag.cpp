@@ -57,10 +57,9 @@ std::string writeDrive(const std::string& name, bool sensors) {
 
 VehicleInputsOptions frontEndOptions() {
   VehicleInputsOptions options;
-  options.estimator.vehicle = loadVehicleParams(kVehicle);
-  options.estimator.wheel_radius_m.fill(SensorModelParams().wheel_radius_nominal_m);
-  options.estimator.steering_ratio = SensorModelParams().steering_ratio;
-  for (int w = 0; w < kWheelCount; ++w) options.wheel_names.push_back(wheelName(w));
+  options.config.estimator.vehicle = loadVehicleParams(kVehicle);
+  options.config.estimator.wheel_radius_m.fill(SensorModelParams().wheel_radius_nominal_m);
+  options.config.estimator.steering_ratio = SensorModelParams().steering_ratio;
   return options;
 }
 

@@ -1,8 +1,8 @@
-#include "tread_wear/ros/node_persistence.h"
-
-#include <ros/console.h>
+#include "tread_wear/pipeline/node_persistence.h"
 
 #include <chrono>
+#include <cstdio>
+#include <utility>
 
 namespace tread_wear {
 namespace {
@@ -12,10 +12,14 @@ double wallNow_s() {
 }
 
 constexpr const char* kSaveFailed = "save failed: ";
+/// A failed save is logged at most this often [s].
+constexpr double kFailureLogPeriod_s = 30.0;
 
 }  // namespace
 
-NodePersistence::NodePersistence(const std::string& state_file) : state_file_(state_file) {
+NodePersistence::NodePersistence(const std::string& state_file, LogSink log)
+    : state_file_(state_file), log_(std::move(log)) {
+  if (!log_) log_ = [](LogLevel, const std::string&) {};
   if (!state_file_.empty()) store_ = std::make_unique<StateStore>(state_file_);
 }
 
@@ -25,16 +29,16 @@ void NodePersistence::restore(const std::vector<std::unique_ptr<WheelPipeline>>&
   const LoadResult r = store_->load();
   switch (r.status) {
     case LoadStatus::kLoaded:
-    case LoadStatus::kMissing: ROS_INFO("%s", r.message.c_str()); break;
+    case LoadStatus::kMissing: log_(LogLevel::kInfo, r.message); break;
     case LoadStatus::kCorrupt:
     case LoadStatus::kIncompatible:
-      ROS_ERROR("%s. Accumulated loss starts from zero; recover the old values from the moved file by hand.",
-                r.message.c_str());
+      log_(LogLevel::kError,
+           r.message + ". Accumulated loss starts from zero; recover the old values from the moved file by hand.");
       problem_ = r.message;
       break;
     case LoadStatus::kIoError:
       // The file is still there and may be good: never overwrite it with zeros.
-      ROS_ERROR("%s. Saving is disabled so the file is not overwritten.", r.message.c_str());
+      log_(LogLevel::kError, r.message + ". Saving is disabled so the file is not overwritten.");
       problem_ = r.message + " (saving disabled)";
       store_.reset();
       break;
@@ -46,15 +50,17 @@ void NodePersistence::restore(const std::vector<std::unique_ptr<WheelPipeline>>&
     if (rec == nullptr) continue;
     w->restore(*rec);
     if (rec->tire_id != w->config().tire_id)
-      ROS_INFO("wheel %s: saved tire_id '%s' replaces the configured '%s'", w->config().name.c_str(),
-               rec->tire_id.c_str(), w->config().tire_id.c_str());
-    ROS_INFO("wheel %s: restored accumulated loss %.9g kg over %.6g m (tire %s)", w->config().name.c_str(),
-             rec->accumulated_loss_kg, rec->distance_m, rec->tire_id.c_str());
+      log_(LogLevel::kInfo, "wheel " + w->config().name + ": saved tire_id '" + rec->tire_id +
+                                "' replaces the configured '" + w->config().tire_id + "'");
+    char text[160];
+    std::snprintf(text, sizeof(text), "restored accumulated loss %.9g kg over %.6g m", rec->accumulated_loss_kg,
+                  rec->distance_m);
+    log_(LogLevel::kInfo, "wheel " + w->config().name + ": " + text + " (tire " + rec->tire_id + ")");
   }
   for (const WheelRecord& rec : saved_.wheels)
     if (findWheel(wheels, rec.name) == nullptr)
-      ROS_WARN("state file has wheel '%s' which is not configured: kept in the file, not estimated",
-               rec.name.c_str());
+      log_(LogLevel::kWarn,
+           "state file has wheel '" + rec.name + "' which is not configured: kept in the file, not estimated");
 }
 
 void NodePersistence::save(const std::vector<std::unique_ptr<WheelPipeline>>& wheels, const char* reason) {
@@ -73,10 +79,14 @@ void NodePersistence::save(const std::vector<std::unique_ptr<WheelPipeline>>& wh
     saved_ = state;
     last_save_unix_s_ = wallNow_s();
     if (problem_.rfind(kSaveFailed, 0) == 0) problem_.clear();  // a failed save is over; a restore problem stays
-    ROS_DEBUG("state saved (%s) to %s", reason, store_->path().c_str());
+    log_(LogLevel::kDebug, std::string("state saved (") + reason + ") to " + store_->path());
   } else {
     problem_ = kSaveFailed + error;
-    ROS_ERROR_THROTTLE(30.0, "cannot save the wear state (%s): %s", reason, error.c_str());
+    const double now_s = wallNow_s();
+    if (now_s - last_failure_log_unix_s_ >= kFailureLogPeriod_s) {
+      last_failure_log_unix_s_ = now_s;
+      log_(LogLevel::kError, std::string("cannot save the wear state (") + reason + "): " + error);
+    }
   }
 }
 
