@@ -83,6 +83,8 @@ struct UserMechanism;
 class MechanismEvaluator;
 struct DriveCells;
 struct DriveNodeColumn;
+struct DriveCellFactors;
+struct DriveCellView;
 
 struct TermParameterSpec {
   std::string name;     ///< e.g. "compliance_rad_per_n"
@@ -242,9 +244,17 @@ class ExtendedModel {
   const DriveNodeColumn* nodeColumn(long node, const std::vector<int>& cells) const;
   /// The brush results of the steady runs and coarse cells at `setting` (points with a null entry are skipped).
   std::vector<const DiagnosisRun*> brushPoints(bool steady, bool coarse) const;
-  /// The fine drive cells at `values`: at the base parameters, carried by the coarse cells' change in `raw`.
-  bool fineDriveResults(const std::vector<double>& values, const std::vector<RawResult>& raw,
-                        std::vector<RawResult>* fine) const;
+  /// The fine (or coarse) drive cells evaluated at the base brush parameters, once per preset key (cached with the
+  /// data). @throw what the brush model throws.
+  const std::vector<RawResult>& baseCellResults(bool fine) const;
+  /// The fine (or coarse) drive cells' wear factors that do not depend on the parameters (cached with the data).
+  const DriveCellFactors& cellFactors(bool fine) const;
+  /// The drive cells' results at `values` (`raw`: rawResults); false when they cannot be evaluated.
+  bool driveCellView(const std::vector<double>& values, const std::vector<RawResult>& raw, DriveCellView* view) const;
+  /// A drive segment's Fy (time-weighted) and W_r (distance-weighted) over its cells, before the sensor and user
+  /// terms.
+  void predictSegment(const std::vector<double>& values, const DriveCellView& view, int run, double* fy_n,
+                      double* wear_kg_per_m) const;
   /// What the cached results of the drive cells depend on besides the brush parameters: the preset, the
   /// orientation and the tire file's friction and wear levels.
   std::vector<double> presetKey() const;
