@@ -29,8 +29,8 @@
 /// Eq 23 for a normal load distribution is the integral of W_r(Fz) over N(mean, std^2); the paper's 10 N bins are
 /// one quadrature of it. The 3-point Gauss-Hermite rule (nodes mean, mean +- sqrt(3) std; weights 2/3, 1/6, 1/6)
 /// is exact for polynomials up to degree 5 and smooth in s_load, which a least-squares Jacobian needs.
-/// Lateral compliance solves alpha_eff = alpha + c_lat Fy(alpha_eff) by secant iteration (|dFy/dalpha| c_lat < 1
-/// for any plausible compliance, so the root is unique).
+/// Lateral compliance solves alpha_eff = alpha + c_lat Fy(alpha_eff) by secant iteration, the first step exact for a
+/// linear tire (the root is unique where Fy falls with the slip angle).
 /// Drive segments (DiagnosisRun::isDrive) are predicted from their integrated operating points, binned into cells
 /// (point_cells.h) at two resolutions that all segments share: fine cells (the default PointCellParams, within
 /// 0.25% of the replay's wear per segment, docs/diagnosis.md) and coarse ones (4 times the load width, 5 times the

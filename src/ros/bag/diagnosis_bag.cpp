@@ -1,10 +1,15 @@
 #include "tread_wear/ros/bag/diagnosis_bag.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <exception>
+#include <functional>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
+#include <thread>
 #include <tuple>
 
 #include <geometry_msgs/WrenchStamped.h>
@@ -14,6 +19,7 @@
 #include <std_msgs/Int32.h>
 #include <std_msgs/String.h>
 
+#include "tread_wear/diagnosis/parallel_for.h"
 #include "tread_wear/estimation/drive_segments.h"
 #include "tread_wear/ros/bag/bag_check.h"
 #include "tread_wear/ros/bag/drive_bag_reader.h"
@@ -59,6 +65,180 @@ std::vector<std::tuple<double, std::string, std::string>> readCovariates(rosbag:
   return out;
 }
 
+/// fn(0) .. fn(count - 1) on up to as many threads as there are cores, each index on one thread; the first exception
+/// thrown is rethrown here once every thread has stopped.
+void inParallel(std::size_t count, const std::function<void(std::size_t)>& fn) {
+  const std::size_t threads = std::min<std::size_t>(count, static_cast<std::size_t>(defaultJobs()));
+  std::atomic<std::size_t> next{0};
+  std::exception_ptr error;
+  std::mutex error_lock;
+  auto worker = [&] {
+    for (std::size_t i = next++; i < count; i = next++) {
+      try {
+        fn(i);
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(error_lock);
+        if (!error) error = std::current_exception();
+        next = count;
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (std::thread& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+}
+
+/// Topic (without a leading slash) -> the bag's spelling.
+using BagTopics = std::map<std::string, std::string>;
+/// Recorded covariates as (time, name, value), in time order (readCovariates).
+using RecordedCovariates = std::vector<std::tuple<double, std::string, std::string>>;
+
+/// The wheels with checkpoint topics (wheels/<w>/measured/mass or tread_depth), by name.
+std::map<std::string, WheelRecord> measuredWheels(const std::string& path, const BagTopics& topics) {
+  std::map<std::string, WheelRecord> wheels;
+  for (const auto& [topic, spelled] : topics) {
+    if (topic.rfind("wheels/", 0) != 0) continue;
+    for (const std::string suffix : {"/measured/mass", "/measured/tread_depth"}) {
+      if (topic.size() > suffix.size() + 7 && topic.compare(topic.size() - suffix.size(), suffix.size(), suffix) == 0) {
+        const std::string name = topic.substr(7, topic.size() - suffix.size() - 7);
+        wheels[name].name = name;
+        wheels[name].by_mass = wheels[name].by_mass || suffix == "/measured/mass";
+      }
+    }
+  }
+  if (wheels.empty())
+    throw std::runtime_error(path + ": no topic wheels/<name>/measured/mass or wheels/<name>/measured/tread_depth "
+                                    "(std_msgs/Float64 checkpoints)");
+  return wheels;
+}
+
+/// Pass 1: every wheel's checkpoints (masses, or depths times mass_per_depth), cycles and side forces.
+void readMeasurements(rosbag::Bag& bag, const BagTopics& topics, double mass_per_depth,
+                      std::map<std::string, WheelRecord>* wheels) {
+  std::map<std::string, std::pair<WheelRecord*, int>> measured;  // bag topic -> (wheel, 0 checkpoint 1 cycle 2 Fy)
+  for (auto& [name, w] : *wheels) {
+    const std::string prefix = "wheels/" + name + "/measured/";
+    const std::string checkpoint = prefix + (w.by_mass ? "mass" : "tread_depth");
+    measured[topics.at(checkpoint)] = {&w, 0};
+    if (topics.count(prefix + "cycle")) measured[topics.at(prefix + "cycle")] = {&w, 1};
+    if (topics.count(prefix + "side_force")) measured[topics.at(prefix + "side_force")] = {&w, 2};
+  }
+  std::vector<std::string> measured_topics;
+  for (const auto& m : measured) measured_topics.push_back(m.first);
+  for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery(measured_topics))) {
+    auto& [w, what] = measured.at(m.getTopic());
+    const double t = m.getTime().toSec();
+    if (what == 0) {
+      auto msg = m.instantiate<std_msgs::Float64>();
+      if (!msg) throw std::runtime_error(m.getTopic() + " is not std_msgs/Float64");
+      w->checkpoints.emplace_back(t, w->by_mass ? msg->data : msg->data * mass_per_depth);
+    } else if (what == 1) {
+      if (auto msg = m.instantiate<std_msgs::Int32>()) w->cycles.emplace_back(t, msg->data);
+    } else if (auto msg = m.instantiate<geometry_msgs::WrenchStamped>()) {
+      w->forces.emplace_back(t, msg->wrench.force.y);
+    }
+  }
+}
+
+/// Pass 2: every wheel's inputs through its segmenter, on one grid that starts at the first input of any wheel; the
+/// segments of each wheel of `order`.
+std::vector<std::vector<DriveSegment>> wheelSegments(rosbag::Bag& bag, const std::string& path,
+                                                     const BagTopics& topics, const ReplaySettings& replay,
+                                                     const std::vector<WheelRecord*>& order) {
+  std::map<std::string, std::pair<int, InputKind>> inputs;  // bag topic -> (wheel index, kind)
+  for (std::size_t wi = 0; wi < order.size(); ++wi) {
+    const WheelRecord& w = *order[wi];
+    if (w.checkpoints.size() < 2)
+      throw std::runtime_error(path + ": fewer than two " + (w.by_mass ? "mass" : "tread depth") +
+                               " checkpoints on wheels/" + w.name + "/measured/: no segment to compare");
+    for (int k = 0; k < kInputKindCount; ++k) {
+      const std::string topic = "wheels/" + w.name + "/" + kInputNames[k];
+      if (topics.count(topic)) {
+        inputs[topics.at(topic)] = {static_cast<int>(wi), static_cast<InputKind>(k)};
+      } else if (static_cast<InputKind>(k) != InputKind::kTemperature) {
+        throw std::runtime_error(path + ": missing input topic " + topic + " of wheel " + w.name);
+      }
+    }
+  }
+  std::vector<std::string> input_topics;
+  std::vector<std::vector<std::string>> wheel_topics(order.size());
+  for (const auto& [topic, route] : inputs) {
+    input_topics.push_back(topic);
+    wheel_topics[static_cast<std::size_t>(route.first)].push_back(topic);
+  }
+  const double start_s = rosbag::View(bag, rosbag::TopicQuery(input_topics)).getBeginTime().toSec();
+  std::vector<std::unique_ptr<DriveSegmenter>> segmenters;
+  for (WheelRecord* w : order) {
+    std::vector<double> times;
+    for (const auto& c : w->checkpoints) times.push_back(c.first);
+    try {
+      segmenters.push_back(std::make_unique<DriveSegmenter>(replay, PointCellParams(), times, start_s));
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error(path + ": wheel " + w->name + ": " + e.what());
+    }
+  }
+  // Each wheel's inputs through its own segmenter, the wheels on parallel threads with a reader each: a wheel's
+  // messages arrive in time order either way, so the segments do not depend on the threads.
+  inParallel(order.size(), [&](std::size_t wi) {
+    rosbag::Bag own;
+    own.open(path, rosbag::bagmode::Read);
+    for (const rosbag::MessageInstance& m : rosbag::View(own, rosbag::TopicQuery(wheel_topics[wi])))
+      segmenters[wi]->addSample(inputSample(m, inputs.at(m.getTopic()).second));
+  });
+  std::vector<std::vector<DriveSegment>> segments;
+  for (auto& segmenter : segmenters) segments.push_back(segmenter->finish());
+  return segments;
+}
+
+/// The run record of segment j of wheel w. @throw std::runtime_error for a segment without motion or whose mass (or
+/// depth) did not decrease.
+RunRecord segmentRecord(const std::string& path, const WheelRecord& w, std::size_t j, const DriveSegment& seg,
+                        const std::vector<std::string>& covariate_names, const RecordedCovariates& covariates,
+                        const ReplaySettings& replay) {
+  const std::string where = path + ": wheel " + w.name + ", segment " + std::to_string(j + 1) +
+                            " (ending at t = " + std::to_string(seg.end_s) + " s)";
+  if (!(seg.integrated_s > 0.0) || !(seg.distance_m > 0.0))
+    throw std::runtime_error(where + ": no motion with all of load, slip and speed known (inputs older than " +
+                             std::to_string(replay.estimator.stale_timeout_s) + " s are not integrated)");
+  const double loss = w.checkpoints[j].second - w.checkpoints[j + 1].second;
+  if (!(loss > 0.0))
+    throw std::runtime_error(where + (w.by_mass ? ": the mass did not decrease (" : ": the tread depth did not "
+                                                                                   "decrease (mass equivalent ") +
+                             std::to_string(loss) + " kg)");
+  RunRecord r = driveSegmentRecord(seg);
+  // Side-force samples in [start, end): one stamped at a checkpoint belongs to the segment that starts there.
+  double fy_sum = 0.0;
+  int fy_n = 0;
+  for (const auto& [tf, fy] : w.forces)
+    if (tf >= seg.start_s && tf < seg.end_s) {
+      fy_sum += fy;
+      ++fy_n;
+    }
+  r.measured_side_force_n = fy_n > 0 ? fy_sum / fy_n : NAN;
+  r.measured_wear_rate_kg_per_m = loss / seg.distance_m;
+  r.condition_id = w.name + "/segment_" + std::to_string(j + 1);
+  // The cycle in effect before the checkpoint: a cycle message stamped at the checkpoint itself starts the next
+  // segment (messages of equal time have no defined order in a bag).
+  r.cycle_id = -1;
+  for (const auto& [tc, id] : w.cycles)
+    if (tc < seg.end_s) r.cycle_id = id;
+  r.run_order = static_cast<int>(j + 1);
+  r.covariates = {seg.distance_m, seg.end_s - seg.start_s, loss};
+  r.text_covariates = {w.name};
+  // Each recorded covariate as in effect before the segment's end (as the cycle), "unknown" before its first.
+  for (const std::string& name : covariate_names) {
+    std::string value = "unknown";
+    for (const auto& [tc, n, v] : covariates)
+      if (n == name && tc < seg.end_s) value = v;
+    r.text_covariates.push_back(value);
+  }
+  std::string error;
+  if (!r.op.validate(&error)) throw std::runtime_error(where + ": " + error);
+  return r;
+}
+
 }  // namespace
 
 RunTable readDiagnosisBag(const std::string& path, const TireParams& tire, const ReplaySettings& replay) {
@@ -75,141 +255,23 @@ RunTable readDiagnosisBag(const std::string& path, const TireParams& tire, const
   table.covariate_names = {"distance_m", "duration_s", "mass_loss_kg"};
   table.text_covariate_names = {"wheel"};
   try {
-    // Topic (without a leading slash) -> the bag's spelling.
-    std::map<std::string, std::string> topics;
-    {
-      rosbag::View all(bag);
-      for (const rosbag::ConnectionInfo* c : all.getConnections()) topics[withoutLeadingSlash(c->topic)] = c->topic;
-    }
-    std::map<std::string, WheelRecord> wheels;
-    for (const auto& [topic, spelled] : topics) {
-      if (topic.rfind("wheels/", 0) != 0) continue;
-      for (const std::string suffix : {"/measured/mass", "/measured/tread_depth"}) {
-        if (topic.size() > suffix.size() + 7 && topic.compare(topic.size() - suffix.size(), suffix.size(), suffix) == 0) {
-          const std::string name = topic.substr(7, topic.size() - suffix.size() - 7);
-          wheels[name].name = name;
-          wheels[name].by_mass = wheels[name].by_mass || suffix == "/measured/mass";
-        }
-      }
-    }
-    if (wheels.empty())
-      throw std::runtime_error(path + ": no topic wheels/<name>/measured/mass or wheels/<name>/measured/tread_depth "
-                                      "(std_msgs/Float64 checkpoints)");
-    const double mass_per_depth = tire.material.massPerDepth_kg_per_m();
+    BagTopics topics;
+    for (const rosbag::ConnectionInfo* c : rosbag::View(bag).getConnections())
+      topics[withoutLeadingSlash(c->topic)] = c->topic;
+    std::map<std::string, WheelRecord> wheels = measuredWheels(path, topics);
     std::vector<std::string> covariate_names;
-    const auto covariates = topics.count(kCovariateTopic)
-                                ? readCovariates(bag, path, topics.at(kCovariateTopic), &covariate_names)
-                                : std::vector<std::tuple<double, std::string, std::string>>{};
+    const RecordedCovariates covariates = topics.count(kCovariateTopic)
+                                              ? readCovariates(bag, path, topics.at(kCovariateTopic), &covariate_names)
+                                              : RecordedCovariates{};
     for (const std::string& name : covariate_names) table.text_covariate_names.push_back(name);
-
-    // Pass 1: the measurements.
-    std::map<std::string, std::pair<WheelRecord*, int>> measured;  // bag topic -> (wheel, 0 checkpoint 1 cycle 2 Fy)
-    for (auto& [name, w] : wheels) {
-      const std::string prefix = "wheels/" + name + "/measured/";
-      const std::string checkpoint = prefix + (w.by_mass ? "mass" : "tread_depth");
-      measured[topics.at(checkpoint)] = {&w, 0};
-      if (topics.count(prefix + "cycle")) measured[topics.at(prefix + "cycle")] = {&w, 1};
-      if (topics.count(prefix + "side_force")) measured[topics.at(prefix + "side_force")] = {&w, 2};
-    }
-    std::vector<std::string> measured_topics;
-    for (const auto& m : measured) measured_topics.push_back(m.first);
-    for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery(measured_topics))) {
-      auto& [w, what] = measured.at(m.getTopic());
-      const double t = m.getTime().toSec();
-      if (what == 0) {
-        auto msg = m.instantiate<std_msgs::Float64>();
-        if (!msg) throw std::runtime_error(m.getTopic() + " is not std_msgs/Float64");
-        w->checkpoints.emplace_back(t, w->by_mass ? msg->data : msg->data * mass_per_depth);
-      } else if (what == 1) {
-        if (auto msg = m.instantiate<std_msgs::Int32>()) w->cycles.emplace_back(t, msg->data);
-      } else if (auto msg = m.instantiate<geometry_msgs::WrenchStamped>()) {
-        w->forces.emplace_back(t, msg->wrench.force.y);
-      }
-    }
-
-    // Pass 2: every wheel's inputs through its segmenter, on one grid that starts at the first input of any wheel.
-    std::map<std::string, std::pair<int, InputKind>> inputs;  // bag topic -> (wheel index, kind)
+    readMeasurements(bag, topics, tire.material.massPerDepth_kg_per_m(), &wheels);
     std::vector<WheelRecord*> order;
-    for (auto& [name, w] : wheels) {
-      if (w.checkpoints.size() < 2)
-        throw std::runtime_error(path + ": fewer than two " + (w.by_mass ? "mass" : "tread depth") +
-                                 " checkpoints on wheels/" + name + "/measured/: no segment to compare");
-      for (int k = 0; k < kInputKindCount; ++k) {
-        const std::string topic = "wheels/" + name + "/" + kInputNames[k];
-        if (topics.count(topic)) {
-          inputs[topics.at(topic)] = {static_cast<int>(order.size()), static_cast<InputKind>(k)};
-        } else if (static_cast<InputKind>(k) != InputKind::kTemperature) {
-          throw std::runtime_error(path + ": missing input topic " + topic + " of wheel " + name);
-        }
-      }
-      order.push_back(&w);
-    }
-    std::vector<std::string> input_topics;
-    for (const auto& i : inputs) input_topics.push_back(i.first);
-    rosbag::View input_view(bag, rosbag::TopicQuery(input_topics));
-    const double start_s = input_view.getBeginTime().toSec();
-    std::vector<std::unique_ptr<DriveSegmenter>> segmenters;
-    for (WheelRecord* w : order) {
-      std::vector<double> times;
-      for (const auto& c : w->checkpoints) times.push_back(c.first);
-      try {
-        segmenters.push_back(std::make_unique<DriveSegmenter>(replay, PointCellParams(), times, start_s));
-      } catch (const std::invalid_argument& e) {
-        throw std::runtime_error(path + ": wheel " + w->name + ": " + e.what());
-      }
-    }
-    for (const rosbag::MessageInstance& m : input_view) {
-      const auto& [wheel, kind] = inputs.at(m.getTopic());
-      segmenters[static_cast<std::size_t>(wheel)]->addSample(inputSample(m, kind));
-    }
-
-    for (std::size_t wi = 0; wi < order.size(); ++wi) {
-      const WheelRecord& w = *order[wi];
-      const std::vector<DriveSegment> segments = segmenters[wi]->finish();
-      for (std::size_t j = 0; j < segments.size(); ++j) {
-        const DriveSegment& seg = segments[j];
-        const std::string where = path + ": wheel " + w.name + ", segment " + std::to_string(j + 1) +
-                                  " (ending at t = " + std::to_string(seg.end_s) + " s)";
-        if (!(seg.integrated_s > 0.0) || !(seg.distance_m > 0.0))
-          throw std::runtime_error(where + ": no motion with all of load, slip and speed known (inputs older than " +
-                                   std::to_string(replay.estimator.stale_timeout_s) +
-                                   " s are not integrated)");
-        const double loss = w.checkpoints[j].second - w.checkpoints[j + 1].second;
-        if (!(loss > 0.0))
-          throw std::runtime_error(where + (w.by_mass ? ": the mass did not decrease (" : ": the tread depth did not "
-                                                                                         "decrease (mass equivalent ") +
-                                   std::to_string(loss) + " kg)");
-        RunRecord r = driveSegmentRecord(seg);
-        // Side-force samples in [start, end): one stamped at a checkpoint belongs to the segment that starts there.
-        double fy_sum = 0.0;
-        int fy_n = 0;
-        for (const auto& [tf, fy] : w.forces)
-          if (tf >= seg.start_s && tf < seg.end_s) {
-            fy_sum += fy;
-            ++fy_n;
-          }
-        r.measured_side_force_n = fy_n > 0 ? fy_sum / fy_n : NAN;
-        r.measured_wear_rate_kg_per_m = loss / seg.distance_m;
-        r.condition_id = w.name + "/segment_" + std::to_string(j + 1);
-        // The cycle in effect before the checkpoint: a cycle message stamped at the checkpoint itself starts the
-        // next segment (messages of equal time have no defined order in a bag).
-        r.cycle_id = -1;
-        for (const auto& [tc, id] : w.cycles)
-          if (tc < seg.end_s) r.cycle_id = id;
-        r.run_order = static_cast<int>(j + 1);
-        r.covariates = {seg.distance_m, seg.end_s - seg.start_s, loss};
-        r.text_covariates = {w.name};
-        // Each recorded covariate as in effect before the segment's end (as the cycle), "unknown" before its first.
-        for (const std::string& name : covariate_names) {
-          std::string value = "unknown";
-          for (const auto& [tc, n, v] : covariates)
-            if (n == name && tc < seg.end_s) value = v;
-          r.text_covariates.push_back(value);
-        }
-        if (!r.op.validate(&error)) throw std::runtime_error(where + ": " + error);
-        table.runs.push_back(std::move(r));
-      }
-    }
+    for (auto& [name, w] : wheels) order.push_back(&w);
+    const std::vector<std::vector<DriveSegment>> segments = wheelSegments(bag, path, topics, replay, order);
+    for (std::size_t wi = 0; wi < order.size(); ++wi)
+      for (std::size_t j = 0; j < segments[wi].size(); ++j)
+        table.runs.push_back(
+            segmentRecord(path, *order[wi], j, segments[wi][j], covariate_names, covariates, replay));
   } catch (const rosbag::BagException& e) {
     throw std::runtime_error(path + ": " + e.what());
   } catch (const ros::Exception& e) {
