@@ -1,23 +1,24 @@
 #include "tread_wear/ros/bag/diagnosis_bag.h"
 
-#include <algorithm>
-#include <atomic>
-#include <cmath>
-#include <exception>
-#include <functional>
-#include <map>
-#include <memory>
-#include <mutex>
-#include <stdexcept>
-#include <thread>
-#include <tuple>
-
 #include <geometry_msgs/WrenchStamped.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 #include <std_msgs/Float64.h>
 #include <std_msgs/Int32.h>
 #include <std_msgs/String.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <condition_variable>
+#include <deque>
+#include <exception>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+#include <tuple>
 
 #include "tread_wear/diagnosis/parallel_for.h"
 #include "tread_wear/estimation/drive_segments.h"
@@ -65,30 +66,104 @@ std::vector<std::tuple<double, std::string, std::string>> readCovariates(rosbag:
   return out;
 }
 
-/// fn(0) .. fn(count - 1) on up to as many threads as there are cores, each index on one thread; the first exception
-/// thrown is rethrown here once every thread has stopped.
-void inParallel(std::size_t count, const std::function<void(std::size_t)>& fn) {
-  const std::size_t threads = std::min<std::size_t>(count, static_cast<std::size_t>(defaultJobs()));
-  std::atomic<std::size_t> next{0};
-  std::exception_ptr error;
-  std::mutex error_lock;
-  auto worker = [&] {
-    for (std::size_t i = next++; i < count; i = next++) {
+/// Feeds the wheels' samples to their segmenters on worker threads while the calling thread reads the bag (decoding
+/// the messages and binning the points each take about half of the time). There is one reader, so each segmenter
+/// gets its wheel's samples in the bag's order and the segments do not depend on the threads.
+class SegmenterPipeline {
+ public:
+  /// workers < 1: the samples go to the segmenters on the calling thread.
+  SegmenterPipeline(std::vector<std::unique_ptr<DriveSegmenter>>* segmenters, int workers)
+      : segmenters_(*segmenters),
+        pending_(segmenters->size()),
+        workers_(static_cast<std::size_t>(std::max(0, workers))) {
+    for (Worker& w : workers_) w.thread = std::thread([this, &w] { run(&w); });
+  }
+  ~SegmenterPipeline() { stop(); }
+
+  /// @throw std::runtime_error once a segmenter has failed (finish() then rethrows its error).
+  void add(std::size_t wheel, const InputSample& sample) {
+    if (workers_.empty()) return segmenters_[wheel]->addSample(sample);
+    if (failed_) throw std::runtime_error("a segmenter failed");
+    std::vector<InputSample>& batch = pending_[wheel];
+    batch.push_back(sample);
+    if (batch.size() >= kBatch) hand(wheel);
+  }
+  /// Hands over what is left and waits for the workers; rethrows the first error of a segmenter.
+  void finish() {
+    for (std::size_t wheel = 0; wheel < pending_.size() && !workers_.empty() && !failed_; ++wheel)
+      if (!pending_[wheel].empty()) hand(wheel);
+    stop();
+    if (error_) std::rethrow_exception(error_);
+  }
+
+ private:
+  static constexpr std::size_t kBatch = 4096;  ///< samples handed over at a time
+  static constexpr std::size_t kQueued = 64;   ///< batches a worker may have waiting before the reader waits
+  struct Batch {
+    std::size_t wheel;
+    std::vector<InputSample> samples;
+  };
+  struct Worker {
+    std::mutex lock;
+    std::condition_variable changed;
+    std::deque<Batch> queue;
+    bool closed = false;
+    std::thread thread;
+  };
+
+  void hand(std::size_t wheel) {
+    Worker& w = workers_[wheel % workers_.size()];  // a wheel always goes to one worker: its batches stay in order
+    std::unique_lock<std::mutex> guard(w.lock);
+    w.changed.wait(guard, [&] { return w.queue.size() < kQueued || failed_; });
+    if (failed_) return;  // add() and finish() report the segmenter's error
+    w.queue.push_back({wheel, std::move(pending_[wheel])});
+    pending_[wheel].clear();
+    w.changed.notify_all();
+  }
+  void run(Worker* w) {
+    for (;;) {
+      Batch batch;
+      {
+        std::unique_lock<std::mutex> guard(w->lock);
+        w->changed.wait(guard, [&] { return !w->queue.empty() || w->closed; });
+        if (w->queue.empty()) return;
+        batch = std::move(w->queue.front());
+        w->queue.pop_front();
+        w->changed.notify_all();
+      }
+      if (failed_) continue;
       try {
-        fn(i);
+        for (const InputSample& s : batch.samples) segmenters_[batch.wheel]->addSample(s);
       } catch (...) {
-        const std::lock_guard<std::mutex> lock(error_lock);
-        if (!error) error = std::current_exception();
-        next = count;
+        const std::lock_guard<std::mutex> guard(error_lock_);
+        if (!error_) error_ = std::current_exception();
+        failed_ = true;
+        for (Worker& other : workers_) {
+          const std::lock_guard<std::mutex> wake(other.lock);
+          other.changed.notify_all();
+        }
       }
     }
-  };
-  std::vector<std::thread> pool;
-  for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (std::thread& t : pool) t.join();
-  if (error) std::rethrow_exception(error);
-}
+  }
+  void stop() {
+    for (Worker& w : workers_) {
+      {
+        const std::lock_guard<std::mutex> guard(w.lock);
+        w.closed = true;
+      }
+      w.changed.notify_all();
+    }
+    for (Worker& w : workers_)
+      if (w.thread.joinable()) w.thread.join();
+  }
+
+  std::vector<std::unique_ptr<DriveSegmenter>>& segmenters_;
+  std::vector<std::vector<InputSample>> pending_;  ///< per wheel, not yet handed over
+  std::deque<Worker> workers_;
+  std::atomic<bool> failed_{false};
+  std::mutex error_lock_;
+  std::exception_ptr error_;
+};
 
 /// Topic (without a leading slash) -> the bag's spelling.
 using BagTopics = std::map<std::string, std::string>;
@@ -163,11 +238,7 @@ std::vector<std::vector<DriveSegment>> wheelSegments(rosbag::Bag& bag, const std
     }
   }
   std::vector<std::string> input_topics;
-  std::vector<std::vector<std::string>> wheel_topics(order.size());
-  for (const auto& [topic, route] : inputs) {
-    input_topics.push_back(topic);
-    wheel_topics[static_cast<std::size_t>(route.first)].push_back(topic);
-  }
+  for (const auto& i : inputs) input_topics.push_back(i.first);
   const double start_s = rosbag::View(bag, rosbag::TopicQuery(input_topics)).getBeginTime().toSec();
   std::vector<std::unique_ptr<DriveSegmenter>> segmenters;
   for (WheelRecord* w : order) {
@@ -179,14 +250,17 @@ std::vector<std::vector<DriveSegment>> wheelSegments(rosbag::Bag& bag, const std
       throw std::runtime_error(path + ": wheel " + w->name + ": " + e.what());
     }
   }
-  // Each wheel's inputs through its own segmenter, the wheels on parallel threads with a reader each: a wheel's
-  // messages arrive in time order either way, so the segments do not depend on the threads.
-  inParallel(order.size(), [&](std::size_t wi) {
-    rosbag::Bag own;
-    own.open(path, rosbag::bagmode::Read);
-    for (const rosbag::MessageInstance& m : rosbag::View(own, rosbag::TopicQuery(wheel_topics[wi])))
-      segmenters[wi]->addSample(inputSample(m, inputs.at(m.getTopic()).second));
-  });
+  SegmenterPipeline pipeline(&segmenters, std::min(defaultJobs(), static_cast<int>(order.size()) + 1) - 1);
+  try {
+    for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery(input_topics))) {
+      const auto& [wheel, kind] = inputs.at(m.getTopic());
+      pipeline.add(static_cast<std::size_t>(wheel), inputSample(m, kind));
+    }
+  } catch (...) {
+    pipeline.finish();  // a segmenter's error first: the reader stopped because of it
+    throw;
+  }
+  pipeline.finish();
   std::vector<std::vector<DriveSegment>> segments;
   for (auto& segmenter : segmenters) segments.push_back(segmenter->finish());
   return segments;
