@@ -263,7 +263,7 @@ namespace {
 
 /// Resolution of the coarse drive cells (extensions.h; the default widths: point_cells.h). On the WLTC drive of
 /// test_drive_integration the fine cells carried by these at 0.8 times the friction are within 0.6% of the replay.
-const PointCellParams kCoarseDriveCells{{100.0, 0.08}, {1e-3, 0.2}, {1e-3, 0.2}, {1.0, 0.6}, {1e-3, 0.6}, 3.0};
+const PointCellParams kCoarseCells{{100.0, 0.08}, {1e-3, 0.2}, {1e-3, 0.2}, {1.0, 0.6}, {1e-3, 0.6}, 3.0};
 
 DiagnosisRun cellRun(const WeightedOperatingPoint& p) {
   DiagnosisRun c;
@@ -277,7 +277,7 @@ DiagnosisRun cellRun(const WeightedOperatingPoint& p) {
 /// keep the points' integrals and first moments), and each run's shares of both.
 std::shared_ptr<DriveCells> buildDriveCells(const DiagnosisData& data) {
   auto cells = std::make_shared<DriveCells>();
-  PointCells fine, coarse(kCoarseDriveCells);
+  PointCells fine, coarse(kCoarseCells);
   cells->fine_shares.resize(data.runs.size());
   cells->coarse_shares.resize(data.runs.size());
   for (std::size_t i = 0; i < data.runs.size(); ++i)
@@ -572,12 +572,12 @@ double ExtendedModel::thermalW3(const std::vector<double>& values, double temper
   return base_.wear.temperature_enabled ? base_.wear.temperatureFactor(temperature_c) : 1.0;
 }
 
-std::size_t ExtendedModel::coarseDriveCells() const { return drive_ ? drive_->coarse.size() : 0; }
+std::size_t ExtendedModel::coarseCellCount() const { return drive_ ? drive_->coarse.size() : 0; }
 
 bool ExtendedModel::coarseCellContributions(const std::vector<double>& values, const std::vector<int>& cells,
                                             std::vector<std::vector<CellContribution>>* out) const {
-  if (!options_.coarse_drive_cells || !drive_)
-    throw std::logic_error("coarseCellContributions needs drive segments and coarse_drive_cells");
+  if (!options_.coarse_cells_only || !drive_)
+    throw std::logic_error("coarseCellContributions needs drive segments and coarse_cells_only");
   if (static_cast<int>(values.size()) != num_parameters_) return false;
   std::vector<const DiagnosisRun*> points;
   for (int c : cells) points.push_back(&drive_->coarse.at(static_cast<std::size_t>(c)));
@@ -828,7 +828,7 @@ const DriveCellFactors& ExtendedModel::cellFactors(bool fine) const {
 bool ExtendedModel::driveCellView(const std::vector<double>& values, const std::vector<RawResult>& raw,
                                   DriveCellView* view) const {
   const std::size_t n = data_.runs.size();
-  const bool fine = !options_.coarse_drive_cells;
+  const bool fine = !options_.coarse_cells_only;
   view->cells = fine ? &drive_->fine : &drive_->coarse;
   view->shares = fine ? &drive_->fine_shares : &drive_->coarse_shares;
   view->coarse = raw.data() + n;

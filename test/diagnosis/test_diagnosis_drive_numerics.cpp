@@ -7,10 +7,10 @@
 #include <cstdio>
 #include <memory>
 
-#include "tread_wear/diagnosis/conceal.h"
 #include "tread_wear/diagnosis/diagnosis.h"
 #include "tread_wear/diagnosis/numerics_check.h"
 #include "tread_wear/io/params_io.h"
+#include "tread_wear/proving/conceal.h"
 
 using namespace tread_wear;
 using namespace tread_wear::diagnosis;
@@ -165,7 +165,7 @@ TEST(DriveNumerics, InterpolatedFrictionMatchesTheDirectEvaluation) {
   const DiagnosisData data = buildDiagnosisData(driveCase("none", 0.0, 0.0, 6).table);
   for (const std::vector<Term>& terms : {std::vector<Term>{}, std::vector<Term>{Term::kThermalFriction}}) {
     ExtendedModelOptions direct_options;
-    direct_options.coarse_drive_cells = true;
+    direct_options.coarse_cells_only = true;
     direct_options.interpolate_mu_scale = false;
     ExtendedModelOptions interpolated_options = direct_options;
     interpolated_options.interpolate_mu_scale = true;

@@ -148,7 +148,7 @@ struct ExtendedModelOptions {
   TurnSlipOrientation orientation = TurnSlipOrientation::kLiteral;  ///< base orientation
   /// Drive segments on the coarse cells only (the solver-error check: the difference of two presets varies
   /// little across a coarse cell); otherwise fine cells with the coarse correction (see the file comment).
-  bool coarse_drive_cells = false;
+  bool coarse_cells_only = false;
   /// Drive segments: with no pressure, compliance or spread term away from its no-effect value, a coarse cell's
   /// results are interpolated (Catmull-Rom, in the ln of its friction factor: mu_scale times thermal_friction's
   /// factor at the cell's temperature) between results at nodes kMuScaleNodeSpacing apart, each evaluated once
@@ -190,16 +190,16 @@ class ExtendedModel {
   int parameterOffset(Term term) const;
   /// Predicts all runs. Returns false when the brush model cannot be evaluated at these values.
   bool predict(const std::vector<double>& values, Prediction* out) const;
-  /// With coarse_drive_cells: evaluates the brush model at `values` at the listed coarse cells only (uncached; the
+  /// With coarse_cells_only: evaluates the brush model at `values` at the listed coarse cells only (uncached; the
   /// solver-error check's sample, numerics_check.h) and gives each cell's contributions to the segments that
   /// share it. A drive segment's coarse prediction (predict) is the sum of its cells' contributions, plus a sensor
   /// offset and user terms, which act per segment; the difference of two presets' contributions is therefore the
   /// cell's part of the segments' solver error. Returns false when the model cannot be evaluated there.
-  /// @throw std::logic_error without coarse_drive_cells.
+  /// @throw std::logic_error without coarse_cells_only.
   bool coarseCellContributions(const std::vector<double>& values, const std::vector<int>& cells,
                                std::vector<std::vector<CellContribution>>* out) const;
   /// The coarse drive cells shared by all segments (0 without drive segments).
-  std::size_t coarseDriveCells() const;
+  std::size_t coarseCellCount() const;
   /// Operating points the brush model is evaluated at per new set of brush-relevant parameter values: the distinct
   /// steady conditions plus the coarse cells of all drive segments together (drive cells, below).
   std::size_t evaluationPoints() const;
