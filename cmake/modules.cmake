@@ -26,9 +26,11 @@ tread_wear_module(io MODULES model vehicle estimation PUBLIC nlohmann_json::nloh
 tread_wear_module(pipeline MODULES model estimation io)
 tread_wear_module(fitting MODULES model io PRIVATE Ceres::ceres)
 tread_wear_module(diagnosis MODULES model io fitting PRIVATE Boost::headers muparser::muparser)
-tread_wear_module(report MODULES io fitting diagnosis PUBLIC nlohmann_json::nlohmann_json)
+# The diagnosis's proving grounds: concealed-effect generators, drive fleets, the harness, detectability reference.
+tread_wear_module(proving MODULES model vehicle estimation io diagnosis)
+tread_wear_module(report MODULES io fitting diagnosis proving PUBLIC nlohmann_json::nlohmann_json)
 tread_wear_module(studies MODULES model reference io)
-tread_wear_module(cli MODULES model reference vehicle planning io fitting diagnosis report studies)
+tread_wear_module(cli MODULES model reference vehicle planning io fitting diagnosis proving report studies)
 
 # The marcher's x step on SIMD packs of strips with glibc's libmvec vector exp/log: four strips per AVX2 + FMA
 # pack (src/model/brush_march_avx2.cpp, compiled for AVX2, chosen at run time on CPUs that have it), else two

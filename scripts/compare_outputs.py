@@ -26,15 +26,24 @@ SKIP_DIRS = {"logs"}
 
 # Keys ignored in one file only: tread_wear_replay writes timings and the input bag's path (which contains
 # OUT_DIR) into its summary (tread_wear_replay's main() and replaySummaryToJson).
+# tread_wear_diagnose writes the wall time of each step and each solver-error check (`timings`, `numerics`).
+DIAGNOSES = ("diagnose/polishing", "diagnose/polishing_bag", "diagnose/table3")
 IGNORED_KEYS = {
     "main/wltc_summary.json": {"wall_time_s", "speedup", "bag_read_s", "compute_cpu_s", "input"},
+    **{f"{d}/diagnosis.json": {"seconds", "total_seconds"} for d in DIAGNOSES},
 }
 
-# Text ignored in one file only: tread_wear_diagnose --bag names the bag by the path it was given, which lies in
-# OUT_DIR ("Recordings: `/abs/OUT/diagnose/polishing.bag` (36 runs; ...)"); only the path is blanked.
-IGNORED_TEXT = {
-    "diagnose/polishing_bag/report.md": re.compile(rb"(?m)^(Recordings: `)[^`]*(`)"),
-}
+# Text ignored in one file only, each pattern's match but its two groups blanked: tread_wear_diagnose --bag names
+# the bag by the path it was given, which lies in OUT_DIR ("Recordings: `/abs/OUT/diagnose/polishing.bag` (36
+# runs; ...)"); every report.md gives wall times: of a solver-error check ("... (0.157 s)") and of each step (the
+# third column of "Time per step" and its total), not their brush evaluations.
+WALL_TIMES = [
+    re.compile(rb"(?m)(\()[0-9.e+-]+( s\)$)"),
+    re.compile(rb"(?m)^(\| [^|\n]+ \| (?:fast|standard|fine|reference) \| )[0-9.e+-]+( \| [0-9]+ \|)$"),
+    re.compile(rb"(?m)^(\| \*\*total\*\* \| \| \*\*)[0-9.e+-]+(\*\* \| \|)$"),
+]
+IGNORED_TEXT = {f"{d}/report.md": WALL_TIMES for d in DIAGNOSES}
+IGNORED_TEXT["diagnose/polishing_bag/report.md"] = [re.compile(rb"(?m)^(Recordings: `)[^`]*(`)")] + WALL_TIMES
 
 
 def rel_diff(a, b):
@@ -135,10 +144,12 @@ def main(argv):
             detail = f"max rel diff {res.max_rel:.3g}"
         elif rel in IGNORED_TEXT:
             with open(pa, "rb") as f1, open(pb, "rb") as f2:
-                blank = [IGNORED_TEXT[rel].sub(rb"\1<ignored>\2", f.read()) for f in (f1, f2)]
+                blank = [f.read() for f in (f1, f2)]
+            for pattern in IGNORED_TEXT[rel]:
+                blank = [pattern.sub(rb"\1<ignored>\2", text) for text in blank]
             if blank[0] != blank[1]:
                 res.differ("bytes differ")
-            detail = "byte-identical but for the ignored path" if not res.mismatch else ""
+            detail = "byte-identical but for the ignored paths and wall times" if not res.mismatch else ""
         else:
             if not filecmp.cmp(pa, pb, shallow=False):
                 res.differ("bytes differ")

@@ -8,12 +8,12 @@
 
 #include "tread_wear/cli/command_line.h"
 #include "tread_wear/cli/diagnosis_model_options.h"
-#include "tread_wear/diagnosis/conceal.h"
 #include "tread_wear/diagnosis/data.h"
 #include "tread_wear/diagnosis/diagnosis.h"
 #include "tread_wear/diagnosis/user_mechanisms.h"
 #include "tread_wear/io/params_io.h"
 #include "tread_wear/io/run_table.h"
+#include "tread_wear/proving/conceal.h"
 #include "tread_wear/report/diagnosis_report.h"
 
 namespace tread_wear {

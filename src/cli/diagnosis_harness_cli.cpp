@@ -10,12 +10,12 @@
 
 #include "tread_wear/cli/command_line.h"
 #include "tread_wear/cli/diagnosis_model_options.h"
-#include "tread_wear/diagnosis/harness.h"
 #include "tread_wear/diagnosis/user_mechanisms.h"
 #include "tread_wear/io/csv.h"
 #include "tread_wear/io/params_io.h"
 #include "tread_wear/io/speed_profile_csv.h"
 #include "tread_wear/io/vehicle_params_io.h"
+#include "tread_wear/proving/harness.h"
 
 namespace tread_wear {
 namespace diagnosis {

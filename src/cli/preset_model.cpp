@@ -1,6 +1,5 @@
 #include "tread_wear/cli/preset_model.h"
 
-#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -23,19 +22,15 @@ PresetModel::PresetModel(const TireParams& params, const WearModelOptions& optio
 EvalStatus PresetModel::evaluate(const OperatingPoint& op, WearResult* result) {
   if (!reference_ && !custom_) return marcher_.evaluate(op, result);
   if (!op.validate(nullptr)) return EvalStatus::kInvalidInput;
-  const double min_speed_mps = marcher_.options().min_speed_mps;
-  OperatingPoint slow = op;
-  slow.speed_mps = std::max(op.speed_mps, min_speed_mps);
-  // WearModel's floor on the rolling speed (locked wheel), so that every path shares its low-speed convention.
-  const double min_rolling_speed_mps = marcher_.options().min_rolling_speed_mps;
-  const bool floored = slow.rollingSpeed() < min_rolling_speed_mps;
-  if (floored) slow.slip_ratio = min_rolling_speed_mps / slow.longitudinalSpeed() - 1.0;
+  // WearModel's low-speed convention (wear_model.h), so that every path shares it.
+  bool low_speed = false;
+  const OperatingPoint eval_op = lowSpeedPoint(op, marcher_.options(), &low_speed);
   if (custom_) {
-    custom_->evaluate(slow, result);
+    custom_->evaluate(eval_op, result);
   } else {
-    reference_->evaluate(slow, result);
+    reference_->evaluate(eval_op, result);
   }
-  if (op.speed_mps >= min_speed_mps && !floored) return EvalStatus::kOk;
+  if (!low_speed) return EvalStatus::kOk;
   result->wear_rate_kg_per_s = result->wear_rate_kg_per_m * op.speed_mps;
   return EvalStatus::kLowSpeed;
 }

@@ -352,7 +352,7 @@ double pValueVsParent(const FittedModel& parent, const FittedModel& f, Term adde
   return nestedFTestPValue(parent.rss, f.rss, std::max(1, f.k - parent.k), dof);
 }
 
-/// The noise a fitted model leaves, as detectability.h measures it: side force in N, wear relative; root mean
+/// The noise a fitted model leaves, as detection_limits.h measures it: side force in N, wear relative; root mean
 /// squares scaled by sqrt(n / (n - k)) for the k fitted parameters, floored like the weights (side force relative
 /// to its RMS level). NaN for an output that is not measured.
 void estimateNoise(const DiagnosisData& data, const FittedModel& model, double* side_force_n, double* wear_rsd) {
@@ -652,6 +652,75 @@ FittedModel forwardSelection(Fitter& fitter, const std::vector<Term>& applicable
   return current;
 }
 
+/// Step 1's start: the relative model at the rig's typical size for the first base fit, and the repeats' relative
+/// pure error, reported beside.
+void startWeights(const DiagnosisData& data, DiagnosisResult* result) {
+  double pe[kNumOutputs];
+  int dof[kNumOutputs];
+  pureError(data, pe, dof);
+  for (int o = 0; o < kNumOutputs; ++o) {
+    result->pure_error[o] = pe[o];
+    result->pure_error_dof[o] = dof[o];
+    result->weights[o].relative = kDefaultNoise[o];
+  }
+}
+
+/// Step 4's pool: the candidates (each once: a repeat would be fitted twice and count twice in Bonferroni; none
+/// given: the whole library) that the data can show; the others go to skipped_terms with the reason. A user term
+/// must leave the model as it is at its no-effect values (checkNoEffect throws otherwise).
+std::vector<Term> applicableTerms(const DiagnosisData& data, const DiagnosisOptions& options, DiagnosisResult* result) {
+  std::vector<Term> pool;
+  for (Term t : options.candidates)
+    if (std::find(pool.begin(), pool.end(), t) == pool.end()) pool.push_back(t);
+  if (pool.empty())
+    for (const TermInfo& t : termLibrary()) pool.push_back(t.term);
+  std::vector<Term> applicable;
+  for (Term t : pool) {
+    std::string why;
+    if (termApplicable(t, data, &why))
+      applicable.push_back(t);
+    else
+      result->skipped_terms.push_back(termInfo(t).name + ": " + why);
+  }
+  for (Term t : applicable)
+    if (termInfo(t).user) checkNoEffect(termInfo(t), data, result->base.prediction);
+  return applicable;
+}
+
+/// Step 5: the accepted terms, else "unexplained" with the covariates the residual follows when a locating test was
+/// significant, else "none".
+void setVerdict(const FittedModel& current, DiagnosisResult* result) {
+  const bool located = std::any_of(result->located_before.begin(), result->located_before.end(),
+                                   [](const LocatedEffect& e) { return e.significant; });
+  if (!current.terms.empty()) {
+    result->explanation = current.label;
+  } else if (located) {
+    result->explanation = "unexplained";
+    std::set<std::string> seen;
+    for (const LocatedEffect& e : result->located_before)
+      if (e.significant && seen.insert(e.covariate).second) result->unexplained_covariates.push_back(e.covariate);
+  } else {
+    result->explanation = "none";
+  }
+  result->mismatch_found = result->explanation != "none";
+}
+
+/// Step 6: the noise the final model leaves and, with detection_power > 0, the detection limits at it.
+void detectionLimitsStep(const TireParams& base, const DiagnosisData& data, const DiagnosisOptions& options,
+                         const FittedModel& current, StepClock& clock, DiagnosisResult* result) {
+  estimateNoise(data, current, &result->side_force_noise_n, &result->wear_noise_rsd);
+  if (!(options.detection_power > 0.0)) return;
+  // An output that is not measured has no residuals to weigh; any positive noise level will do.
+  const DetectabilityOptions d =
+      detectabilityOptions(options, std::isfinite(result->wear_noise_rsd) ? result->wear_noise_rsd : 1.0,
+                           std::isfinite(result->side_force_noise_n) ? result->side_force_noise_n : 1.0);
+  result->detection_power = options.detection_power;
+  clock.begin("detection limits");
+  result->detection_limits = detectionLimits(base, data, fittedValue(result->base, "w3_scale"),
+                                             fittedValue(result->base, "mu_scale"), options.detection_power, d);
+  clock.end(&result->timings);
+}
+
 /// Runs steps 1-6 at options.model.preset, with the numerics check (step 0) at the base fit and at the final
 /// model; with `stop_on_failed_check`, returns right after a failed check at the base fit.
 DiagnosisResult diagnoseAtPreset(const TireParams& base, const DiagnosisData& data, const DiagnosisOptions& options,
@@ -661,16 +730,8 @@ DiagnosisResult diagnoseAtPreset(const TireParams& base, const DiagnosisData& da
   result.preset = options.model.preset;
   result.cv_scheme = data.cv_scheme;
 
-  // 1. Weights: the relative model at the rig's typical size for the first base fit; then each output's noise
-  // model, sized to the current model's residuals. The repeats' relative pure error is reported beside.
-  double pe[kNumOutputs];
-  int dof[kNumOutputs];
-  pureError(data, pe, dof);
-  for (int o = 0; o < kNumOutputs; ++o) {
-    result.pure_error[o] = pe[o];
-    result.pure_error_dof[o] = dof[o];
-    result.weights[o].relative = kDefaultNoise[o];
-  }
+  // 1. Weights: see startWeights; then each output's noise model, sized to the current model's residuals.
+  startWeights(data, &result);
   Fitter fitter(base, data, options, result.weights);
   auto reweight = [&](const FittedModel& m) {
     for (int o = 0; o < kNumOutputs; ++o)
@@ -702,21 +763,7 @@ DiagnosisResult diagnoseAtPreset(const TireParams& base, const DiagnosisData& da
   clock.end(&result.timings);
 
   // 4. Explain: forward selection.
-  std::vector<Term> pool;
-  for (Term t : options.candidates)  // each term once: a repeat would be fitted twice and count twice in Bonferroni
-    if (std::find(pool.begin(), pool.end(), t) == pool.end()) pool.push_back(t);
-  if (pool.empty())
-    for (const TermInfo& t : termLibrary()) pool.push_back(t.term);
-  std::vector<Term> applicable;
-  for (Term t : pool) {
-    std::string why;
-    if (termApplicable(t, data, &why))
-      applicable.push_back(t);
-    else
-      result.skipped_terms.push_back(termInfo(t).name + ": " + why);
-  }
-  for (Term t : applicable)  // a user term must leave the model as it is at its no-effect values
-    if (termInfo(t).user) checkNoEffect(termInfo(t), data, result.base.prediction);
+  const std::vector<Term> applicable = applicableTerms(data, options, &result);
   const FittedModel current = forwardSelection(fitter, applicable, options, reweight, clock, &result);
   result.final_model = current;
   clock.begin("locate after");
@@ -724,20 +771,8 @@ DiagnosisResult diagnoseAtPreset(const TireParams& base, const DiagnosisData& da
   clock.end(&result.timings);
   if (!current.terms.empty()) check(current);
 
-  // 5. Verdict.
-  const bool located = std::any_of(result.located_before.begin(), result.located_before.end(),
-                                   [](const LocatedEffect& e) { return e.significant; });
-  if (!current.terms.empty()) {
-    result.explanation = current.label;
-  } else if (located) {
-    result.explanation = "unexplained";
-    std::set<std::string> seen;
-    for (const LocatedEffect& e : result.located_before)
-      if (e.significant && seen.insert(e.covariate).second) result.unexplained_covariates.push_back(e.covariate);
-  } else {
-    result.explanation = "none";
-  }
-  result.mismatch_found = result.explanation != "none";
+  // 5. Verdict, with the empirical terms after "unexplained".
+  setVerdict(current, &result);
   if (options.empirical && result.explanation == "unexplained") {
     clock.begin("empirical terms");
     result.empirical = fitEmpiricalTerms(base, data, options, result);
@@ -745,18 +780,7 @@ DiagnosisResult diagnoseAtPreset(const TireParams& base, const DiagnosisData& da
   }
 
   // 6. Detection limits at the noise the final model leaves.
-  estimateNoise(data, current, &result.side_force_noise_n, &result.wear_noise_rsd);
-  if (options.detection_power > 0.0) {
-    // An output that is not measured has no residuals to weigh; any positive noise level will do.
-    const DetectabilityOptions d =
-        detectabilityOptions(options, std::isfinite(result.wear_noise_rsd) ? result.wear_noise_rsd : 1.0,
-                             std::isfinite(result.side_force_noise_n) ? result.side_force_noise_n : 1.0);
-    result.detection_power = options.detection_power;
-    clock.begin("detection limits");
-    result.detection_limits = detectionLimits(base, data, fittedValue(result.base, "w3_scale"),
-                                              fittedValue(result.base, "mu_scale"), options.detection_power, d);
-    clock.end(&result.timings);
-  }
+  detectionLimitsStep(base, data, options, current, clock, &result);
   return result;
 }
 

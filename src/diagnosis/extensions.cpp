@@ -24,8 +24,9 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr int kBaseParameters = 2;
 /// Brush results kept for this many distinct brush-relevant parameter vectors before the cache is reset.
 constexpr std::size_t kCacheEntries = 64;
-/// Compliance root: |alpha_eff - alpha - c Fy| below this [rad] (0.0001 deg) ends the secant iteration.
-constexpr double kComplianceTolerance_rad = 2e-6;
+/// Compliance root: |alpha_eff - alpha - c Fy| below this [rad] ends the secant iteration. Measured on drive cells
+/// against 1e-13: W_r within 7e-7 (relative) at 2e-5 to 3e-3 rad/N, 3.2-3.5 brush evaluations a cell.
+constexpr double kComplianceTolerance_rad = 1e-8;
 /// thermal_friction evaluates one brush model per tread temperature rounded to this [degC].
 constexpr double kThermalFrictionResolution_c = 0.1;
 constexpr int kComplianceIterations = 12;
@@ -228,6 +229,12 @@ struct DriveNodeColumn {
   std::vector<char> done;                        ///< whether result[c] has been evaluated
 };
 
+/// Per drive cell factors of the wear that do not depend on the fitted parameters.
+struct DriveCellFactors {
+  std::vector<double> area_per_speed_m_s;  ///< contact_time_wear's 4ab/V [m s]
+  std::vector<double> file_thermal;        ///< the tire file's Eq 25 factor at the cell's temperature [-]
+};
+
 /// The drive segments' cells at the two resolutions (file comment of extensions.h) and their evaluations at the
 /// base brush parameters, per (preset, orientation).
 struct DriveCells {
@@ -247,6 +254,8 @@ struct DriveCells {
   /// model of the data (ExtendedModel::rawResults); guarded with the stores above by raw_cache_lock.
   std::map<std::vector<double>, std::vector<ExtendedModel::RawResult>> raw_cache;
   std::map<std::vector<double>, DriveNodeColumn> node_cache;  ///< by preset key and node index
+  /// By resolution and the tire file's footprint and Eq 25 (ExtendedModel::cellFactors).
+  std::map<std::vector<double>, DriveCellFactors> factors;
   std::mutex raw_cache_lock;
 };
 
@@ -254,7 +263,7 @@ namespace {
 
 /// Resolution of the coarse drive cells (extensions.h; the default widths: point_cells.h). On the WLTC drive of
 /// test_drive_integration the fine cells carried by these at 0.8 times the friction are within 0.6% of the replay.
-const PointCellParams kCoarseDriveCells{{100.0, 0.08}, {1e-3, 0.2}, {1e-3, 0.2}, {1.0, 0.6}, {1e-3, 0.6}, 3.0};
+const PointCellParams kCoarseCells{{100.0, 0.08}, {1e-3, 0.2}, {1e-3, 0.2}, {1.0, 0.6}, {1e-3, 0.6}, 3.0};
 
 DiagnosisRun cellRun(const WeightedOperatingPoint& p) {
   DiagnosisRun c;
@@ -268,7 +277,7 @@ DiagnosisRun cellRun(const WeightedOperatingPoint& p) {
 /// keep the points' integrals and first moments), and each run's shares of both.
 std::shared_ptr<DriveCells> buildDriveCells(const DiagnosisData& data) {
   auto cells = std::make_shared<DriveCells>();
-  PointCells fine, coarse(kCoarseDriveCells);
+  PointCells fine, coarse(kCoarseCells);
   cells->fine_shares.resize(data.runs.size());
   cells->coarse_shares.resize(data.runs.size());
   for (std::size_t i = 0; i < data.runs.size(); ++i)
@@ -432,6 +441,33 @@ std::vector<std::vector<FitParameter>> ExtendedModel::fitStarts(const std::vecto
   return starts;
 }
 
+namespace {
+
+/// The brush model at the effective slip angle of lateral_compliance: the root of g(a) = a - alpha - c Fy(a), by
+/// secant steps from alpha and a first step that is exact for a linear tire, Fy(a) = Fy(alpha) a / alpha (the
+/// fixed-point step alpha + c Fy(alpha) overshoots by the factor c |dFy/dalpha|, 7 on a passenger tire at 1e-4
+/// rad/N, and could end on the saturated flank). g' = 1 - c dFy/da >= 1 wherever Fy falls with a, so the root there
+/// is unique.
+void complianceSolve(const BrushWearModel& model, OperatingPoint op, double compliance, WearResult* r) {
+  const double alpha = op.slip_angle_rad;
+  model.evaluate(op, r);
+  double a0 = alpha, g0 = -compliance * r->fy_n;
+  const double linear = 1.0 - compliance * r->fy_n / alpha;  // > 1 where Fy opposes alpha
+  double a1 = alpha != 0.0 && linear > 1.0 ? alpha / linear : std::clamp(alpha + compliance * r->fy_n, -1.5, 1.5);
+  for (int it = 0; it < kComplianceIterations; ++it) {
+    op.slip_angle_rad = a1;
+    model.evaluate(op, r);
+    const double g1 = a1 - alpha - compliance * r->fy_n;
+    if (std::abs(g1) < kComplianceTolerance_rad || g1 == g0) break;
+    const double a2 = std::clamp(a1 - g1 * (a1 - a0) / (g1 - g0), -1.5, 1.5);
+    a0 = a1;
+    g0 = g1;
+    a1 = a2;
+  }
+}
+
+}  // namespace
+
 ExtendedModel::RawResult ExtendedModel::evaluateRun(const BrushWearModel& model, const DiagnosisRun& run,
                                                     double compliance, double load_std_scale) const {
   const TireParams& tp = model.params();
@@ -439,26 +475,10 @@ ExtendedModel::RawResult ExtendedModel::evaluateRun(const BrushWearModel& model,
     OperatingPoint op = run.op;
     op.load_n = load_n;
     WearResult r;
-    if (compliance > 0.0) {
-      // Secant iteration on g(a) = a - alpha - c Fy(a); the first step is the fixed-point step.
-      const double alpha = run.op.slip_angle_rad;
-      double a0 = alpha;
+    if (compliance > 0.0)
+      complianceSolve(model, op, compliance, &r);
+    else
       model.evaluate(op, &r);
-      double g0 = -compliance * r.fy_n;
-      double a1 = std::clamp(alpha + compliance * r.fy_n, -1.5, 1.5);
-      for (int it = 0; it < kComplianceIterations; ++it) {
-        op.slip_angle_rad = a1;
-        model.evaluate(op, &r);
-        const double g1 = a1 - alpha - compliance * r.fy_n;
-        if (std::abs(g1) < kComplianceTolerance_rad || g1 == g0) break;
-        const double a2 = std::clamp(a1 - g1 * (a1 - a0) / (g1 - g0), -1.5, 1.5);
-        a0 = a1;
-        g0 = g1;
-        a1 = a2;
-      }
-    } else {
-      model.evaluate(op, &r);
-    }
     // w4 acts on the whole patch: its part of W_r is w4 4ab / V (Eqs 19-20).
     const double a = tp.footprint.halfLength(load_n);
     const double w4_part = tp.wear.w4_kg_per_s_m2 * 4.0 * a * tp.footprint.b_m / run.op.speed_mps;
@@ -552,12 +572,12 @@ double ExtendedModel::thermalW3(const std::vector<double>& values, double temper
   return base_.wear.temperature_enabled ? base_.wear.temperatureFactor(temperature_c) : 1.0;
 }
 
-std::size_t ExtendedModel::coarseDriveCells() const { return drive_ ? drive_->coarse.size() : 0; }
+std::size_t ExtendedModel::coarseCellCount() const { return drive_ ? drive_->coarse.size() : 0; }
 
 bool ExtendedModel::coarseCellContributions(const std::vector<double>& values, const std::vector<int>& cells,
                                             std::vector<std::vector<CellContribution>>* out) const {
-  if (!options_.coarse_drive_cells || !drive_)
-    throw std::logic_error("coarseCellContributions needs drive segments and coarse_drive_cells");
+  if (!options_.coarse_cells_only || !drive_)
+    throw std::logic_error("coarseCellContributions needs drive segments and coarse_cells_only");
   if (static_cast<int>(values.size()) != num_parameters_) return false;
   std::vector<const DiagnosisRun*> points;
   for (int c : cells) points.push_back(&drive_->coarse.at(static_cast<std::size_t>(c)));
@@ -736,46 +756,126 @@ std::vector<double> ExtendedModel::presetKey() const {
           base_.footprint.b_m};
 }
 
-bool ExtendedModel::fineDriveResults(const std::vector<double>& values, const std::vector<RawResult>& raw,
-                                     std::vector<RawResult>* fine) const {
-  const int n = static_cast<int>(data_.runs.size());
-  const std::vector<double> preset_key = presetKey();
-  auto base_results =
-      [&](const std::vector<DiagnosisRun>& cells,
-          std::map<std::vector<double>, std::vector<RawResult>>* store) -> const std::vector<RawResult>& {
-    std::lock_guard<std::mutex> lock(drive_->raw_cache_lock);
-    auto it = store->find(preset_key);
-    if (it == store->end()) {
-      std::vector<RawResult> r(cells.size());
-      TireParams b = base_;
-      b.wear.temperature_enabled = false;
-      const BrushWearModel model(b, brush_options_);
-      parallelFor(cells.size(), options_.jobs, [&](std::size_t c) { r[c] = evaluateRun(model, cells[c], 0.0, 0.0); });
-      cellsEvaluated() += static_cast<long>(cells.size());
-      it = store->emplace(preset_key, std::move(r)).first;
-    }
-    return it->second;
+/// The drive cells' results at one parameter vector, read cell by cell (ExtendedModel::predict): the coarse cells as
+/// they are, or the fine cells at the base carried by their coarse cell's change.
+struct DriveCellView {
+  /// A coarse cell's change from the base brush parameters, which the fine cells inside it follow (extensions.h).
+  struct CoarseChange {
+    double fy_n;             ///< Fy now minus Fy at the base [N]
+    double now_w3, base_w3;  ///< w3 part of W_r now and at the base [kg/m]
   };
+  const std::vector<DiagnosisRun>* cells = nullptr;
+  const std::vector<std::vector<DriveCells::Share>>* shares = nullptr;  ///< per run
+  const ExtendedModel::RawResult* coarse = nullptr;                    ///< the coarse cells' results
+  const std::vector<ExtendedModel::RawResult>* fine_base = nullptr;     ///< null: the coarse cells are read
+  const std::vector<int>* coarse_of_fine = nullptr;
+  std::vector<CoarseChange> change;                      ///< per coarse cell; empty at the base parameters
+  const DriveCellFactors* factors = nullptr;             ///< per cell of `cells`
+  std::vector<double> thermal;                           ///< Eq 25's factor per cell, with thermal_wear on
+  const std::vector<double>* work = nullptr;             ///< adhesion_wear's E_a per cell [J/m]; null without it
+
+  ExtendedModel::RawResult at(int c) const {
+    if (fine_base == nullptr) return coarse[c];
+    ExtendedModel::RawResult f = (*fine_base)[static_cast<std::size_t>(c)];
+    if (change.empty()) return f;
+    const CoarseChange& m = change[static_cast<std::size_t>((*coarse_of_fine)[static_cast<std::size_t>(c)])];
+    f.fy_n += m.fy_n;
+    f.wear_w3_kg_per_m = m.base_w3 > 0.0 ? f.wear_w3_kg_per_m * m.now_w3 / m.base_w3 : m.now_w3;
+    return f;
+  }
+  double thermalFactor(int c) const {
+    return thermal.empty() ? factors->file_thermal[static_cast<std::size_t>(c)] : thermal[static_cast<std::size_t>(c)];
+  }
+};
+
+const std::vector<ExtendedModel::RawResult>& ExtendedModel::baseCellResults(bool fine) const {
+  const std::vector<DiagnosisRun>& cells = fine ? drive_->fine : drive_->coarse;
+  std::map<std::vector<double>, std::vector<RawResult>>& store = fine ? drive_->fine_base : drive_->coarse_base;
+  const std::vector<double> preset_key = presetKey();
+  std::lock_guard<std::mutex> lock(drive_->raw_cache_lock);
+  auto it = store.find(preset_key);
+  if (it == store.end()) {
+    std::vector<RawResult> r(cells.size());
+    TireParams b = base_;
+    b.wear.temperature_enabled = false;
+    const BrushWearModel model(b, brush_options_);
+    parallelFor(cells.size(), options_.jobs, [&](std::size_t c) { r[c] = evaluateRun(model, cells[c], 0.0, 0.0); });
+    cellsEvaluated() += static_cast<long>(cells.size());
+    it = store.emplace(preset_key, std::move(r)).first;
+  }
+  return it->second;
+}
+
+const DriveCellFactors& ExtendedModel::cellFactors(bool fine) const {
+  const std::vector<DiagnosisRun>& cells = fine ? drive_->fine : drive_->coarse;
+  const FootprintParams& f = base_.footprint;
+  const WearLawParams& w = base_.wear;
+  const std::vector<double> key = {fine ? 1.0 : 0.0, f.a1_m, f.a2, f.a3_m, f.b_m,
+                                   w.temperature_enabled ? 1.0 : 0.0, w.t0_c, w.sigma_t_c};
+  std::lock_guard<std::mutex> lock(drive_->raw_cache_lock);
+  auto it = drive_->factors.find(key);
+  if (it == drive_->factors.end()) {
+    DriveCellFactors factors;
+    for (const DiagnosisRun& c : cells) {
+      factors.area_per_speed_m_s.push_back(contactAreaPerSpeed(f, c.op));
+      factors.file_thermal.push_back(w.temperature_enabled ? w.temperatureFactor(c.tread_temperature_c) : 1.0);
+    }
+    it = drive_->factors.emplace(key, std::move(factors)).first;
+  }
+  return it->second;
+}
+
+bool ExtendedModel::driveCellView(const std::vector<double>& values, const std::vector<RawResult>& raw,
+                                  DriveCellView* view) const {
+  const std::size_t n = data_.runs.size();
+  const bool fine = !options_.coarse_cells_only;
+  view->cells = fine ? &drive_->fine : &drive_->coarse;
+  view->shares = fine ? &drive_->fine_shares : &drive_->coarse_shares;
+  view->coarse = raw.data() + n;
+  view->coarse_of_fine = &drive_->coarse_of_fine;
+  view->factors = &cellFactors(fine);
+  if (has(Term::kThermalWear))
+    for (const DiagnosisRun& c : *view->cells) view->thermal.push_back(thermalW3(values, c.tread_temperature_c));
+  if (has(Term::kAdhesionWear)) {
+    // Models of one data set may predict on several threads (--jobs); std::map keeps the reference valid.
+    const std::lock_guard<std::mutex> lock(drive_->raw_cache_lock);
+    view->work = &cellAdhesionWork(base_, brush_options_.orientation, *view->cells,
+                                   fine ? &drive_->fine_adhesion : &drive_->coarse_adhesion);
+  }
+  if (!fine) return true;
   try {
-    *fine = base_results(drive_->fine, &drive_->fine_base);
+    view->fine_base = &baseCellResults(true);
     const BrushSetting s = brushSetting(values);
     const bool at_base = s.mu_scale == 1.0 && s.k_t == 0.0 && s.compliance == 0.0 && s.q == base_.friction.q;
     if (at_base) return true;
-    const std::vector<RawResult>& coarse_base = base_results(drive_->coarse, &drive_->coarse_base);
-    for (std::size_t c = 0; c < fine->size(); ++c) {
-      const int m = drive_->coarse_of_fine[c];
-      const RawResult& now = raw[n + m];
-      const RawResult& then = coarse_base[m];
-      RawResult& f = (*fine)[c];
-      f.fy_n += now.fy_n - then.fy_n;
-      f.wear_w3_kg_per_m = then.wear_w3_kg_per_m > 0.0
-                               ? f.wear_w3_kg_per_m * now.wear_w3_kg_per_m / then.wear_w3_kg_per_m
-                               : now.wear_w3_kg_per_m;
-    }
+    const std::vector<RawResult>& coarse_base = baseCellResults(false);
+    view->change.resize(coarse_base.size());
+    for (std::size_t m = 0; m < coarse_base.size(); ++m)
+      view->change[m] = {raw[n + m].fy_n - coarse_base[m].fy_n, raw[n + m].wear_w3_kg_per_m,
+                         coarse_base[m].wear_w3_kg_per_m};
   } catch (const std::exception&) {
     return false;
   }
   return true;
+}
+
+void ExtendedModel::predictSegment(const std::vector<double>& values, const DriveCellView& view, int run, double* fy_n,
+                                   double* wear_kg_per_m) const {
+  const DiagnosisRun& r = data_.runs[static_cast<std::size_t>(run)];
+  const double w3_factor = w3Factor(values, r);
+  const double w4_extra = has(Term::kContactTimeWear) ? values[parameterOffset(Term::kContactTimeWear)] : 0.0;
+  const double k_a = has(Term::kAdhesionWear) ? values[parameterOffset(Term::kAdhesionWear)] : 0.0;
+  double fy_sum = 0.0, wear_sum = 0.0;
+  for (const DriveCells::Share& s : (*view.shares)[static_cast<std::size_t>(run)]) {
+    const RawResult c = view.at(s.cell);
+    const std::size_t k = static_cast<std::size_t>(s.cell);
+    // The road wear terms (contact_time_wear, adhesion_wear): additive per distance, no brush re-evaluation.
+    const double road = w4_extra * view.factors->area_per_speed_m_s[k] + k_a * (view.work ? (*view.work)[k] : 0.0);
+    fy_sum += c.fy_n * s.time_s;
+    wear_sum += (w3_factor * view.thermalFactor(s.cell) * c.wear_w3_kg_per_m + c.wear_w4_kg_per_m + road) * s.distance_m;
+  }
+  *fy_n = fy_sum / r.drive_time_s;
+  *wear_kg_per_m = wear_sum / r.drive_distance_m;
 }
 
 bool ExtendedModel::predict(const std::vector<double>& values, Prediction* out) const {
@@ -786,49 +886,23 @@ bool ExtendedModel::predict(const std::vector<double>& values, Prediction* out) 
   if (found == nullptr) return false;
   const std::vector<RawResult>& raw = *found;
   const int n = static_cast<int>(data_.runs.size());
-
-  // The drive cells' results: the coarse ones as they are, or the fine ones at the base values carried to these
-  // values by the coarse ones' change (extensions.h).
-  std::vector<RawResult> fine;
-  if (drive_ && !options_.coarse_drive_cells && !fineDriveResults(values, raw, &fine)) return false;
-  const bool use_fine = !fine.empty();
-  const std::vector<DiagnosisRun>& cells = use_fine ? drive_->fine : drive_ ? drive_->coarse : data_.runs;
-  auto cell_result = [&](int c) -> const RawResult& { return use_fine ? fine[c] : raw[n + c]; };
-  // The road wear terms (contact_time_wear, adhesion_wear): additive per distance, no brush re-evaluation.
+  DriveCellView view;
+  if (drive_ && !driveCellView(values, raw, &view)) return false;
   const double w4_extra = has(Term::kContactTimeWear) ? values[parameterOffset(Term::kContactTimeWear)] : 0.0;
   const double k_a = has(Term::kAdhesionWear) ? values[parameterOffset(Term::kAdhesionWear)] : 0.0;
-  const std::vector<double>* cell_work = nullptr;
-  if (has(Term::kAdhesionWear) && drive_) {
-    // Models of one data set may predict on several threads (--jobs); std::map keeps the reference valid.
-    const std::lock_guard<std::mutex> lock(drive_->raw_cache_lock);
-    cell_work = &cellAdhesionWork(base_, brush_options_.orientation, cells,
-                                  use_fine ? &drive_->fine_adhesion : &drive_->coarse_adhesion);
-  }
-  auto road_terms = [&](const DiagnosisRun& point, double work_j_per_m) {
-    return w4_extra * contactAreaPerSpeed(base_.footprint, point.op) + k_a * work_j_per_m;
-  };
   out->side_force_n.resize(n);
   out->wear_kg_per_m.resize(n);
   for (int i = 0; i < n; ++i) {
     const DiagnosisRun& r = data_.runs[i];
-    double fy = raw[i].fy_n;
-    const double w3_factor = w3Factor(values, r);
-    double wear = 0.0;
+    double fy = raw[i].fy_n, wear = 0.0;
     if (r.isDrive()) {
-      double fy_sum = 0.0, wear_sum = 0.0;
-      for (const DriveCells::Share& s : use_fine ? drive_->fine_shares[i] : drive_->coarse_shares[i]) {
-        const RawResult& c = cell_result(s.cell);
-        fy_sum += c.fy_n * s.time_s;
-        wear_sum += (w3_factor * thermalW3(values, cells[s.cell].tread_temperature_c) * c.wear_w3_kg_per_m +
-                     c.wear_w4_kg_per_m + road_terms(cells[s.cell], cell_work ? (*cell_work)[s.cell] : 0.0)) *
-                    s.distance_m;
-      }
-      fy = fy_sum / r.drive_time_s;
-      wear = wear_sum / r.drive_distance_m;
+      predictSegment(values, view, i, &fy, &wear);
     } else {
-      wear = w3_factor * thermalW3(values, r.tread_temperature_c) * raw[i].wear_w3_kg_per_m + raw[i].wear_w4_kg_per_m;
+      wear = w3Factor(values, r) * thermalW3(values, r.tread_temperature_c) * raw[i].wear_w3_kg_per_m +
+             raw[i].wear_w4_kg_per_m;
       if (w4_extra != 0.0 || k_a != 0.0)
-        wear += road_terms(r, k_a != 0.0 ? adhesionWork(base_, brush_options_.orientation, {&r}).front() : 0.0);
+        wear += w4_extra * contactAreaPerSpeed(base_.footprint, r.op) +
+                k_a * (k_a != 0.0 ? adhesionWork(base_, brush_options_.orientation, {&r}).front() : 0.0);
     }
     if (has(Term::kSensorGain)) fy *= values[parameterOffset(Term::kSensorGain)];
     if (has(Term::kSensorOffset)) fy += values[parameterOffset(Term::kSensorOffset)];

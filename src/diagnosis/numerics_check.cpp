@@ -259,13 +259,13 @@ NumericsCheck checkNumerics(const TireParams& base, const DiagnosisData& data, c
   if (options.preset == Preset::kReference) return c;
   c.checked = true;
   ExtendedModelOptions preset_options = options;
-  preset_options.coarse_drive_cells = true;     // drive segments: the presets' difference on the coarse cells
+  preset_options.coarse_cells_only = true;      // drive segments: the presets' difference on the coarse cells
   preset_options.interpolate_mu_scale = false;  // both presets evaluated at the fit itself, cell by cell
   const ExtendedModel coarse(base, preset_options, terms, data);
   ExtendedModelOptions finer_options = preset_options;
   finer_options.preset = c.finer;
   const ExtendedModel finer(base, finer_options, terms, data);
-  c.cells = static_cast<int>(coarse.coarseDriveCells());
+  c.cells = static_cast<int>(coarse.coarseCellCount());
   Prediction at;
   if (!coarse.predict(values, &at))
     throw std::invalid_argument("numerics check: the model '" + c.at_model + "' cannot be evaluated at its fit");

@@ -287,12 +287,10 @@ std::string diagnosisJson(const DiagnosisResult& result, const DiagnosisData& da
   return diagnosisDocument(result, data).dump(2) + "\n";
 }
 
-std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& data, const std::string& source,
-                              const std::vector<std::string>& plots) {
-  std::ostringstream m;
-  m << "# Mismatch diagnosis\n\n";
-  m << "Recordings: `" << source << "` (" << data.runs.size() << " runs; side force measured in "
-    << data.measured_count[0] << ", wear in " << data.measured_count[1] << ").\n\n";
+namespace {
+
+/// The verdict with its terms, close alternatives, empirical terms and the errors before and after.
+void verdictSection(std::ostream& m, const DiagnosisResult& r, const DiagnosisData& data) {
   m << "## Verdict\n\n";
   m << "- mismatch found: **" << (r.mismatch_found ? "yes" : "no") << "**\n";
   m << "- explanation: **" << r.explanation << "**\n";
@@ -321,6 +319,10 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
   m << "| " << r.final_model.label << " | " << pct(r.final_model.rmser[0]) << " | " << pct(r.final_model.rmser[1])
     << " | " << pct(r.final_model.cv_rmser[0]) << " | " << pct(r.final_model.cv_rmser[1]) << " |\n\n";
   m << "Held out: " << r.cv_scheme << ". RMSER is Eq 24 of the paper.\n\n";
+}
+
+/// The empirical terms' table (after "unexplained").
+void empiricalSection(std::ostream& m, const DiagnosisResult& r) {
   if (!r.empirical.terms.empty()) {
     m << "## Empirical terms (not physics)\n\n";
     m << "No library term explains the mismatch; the terms below describe the recordings in `" << r.empirical.covariate
@@ -341,6 +343,10 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
     }
     m << "\n";
   }
+}
+
+/// The locating tests on the base model's residuals.
+void locateSection(std::ostream& m, const DiagnosisResult& r) {
   m << "## Where the base model misses (tests on the residuals standardised by the noise model; effects in points of "
        "predicted/measured - 1)\n\n";
   m << "Permutation tests, Holm-adjusted over all " << r.located_before.size() << " tests; ten smallest p-values:\n\n";
@@ -352,6 +358,10 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
       << g(e.p_value, 2) << " | " << (e.significant ? "**" : "") << g(e.p_adjusted, 2) << (e.significant ? "**" : "")
       << " |\n";
   }
+}
+
+/// Every model fitted, the terms not applicable and the selection log.
+void candidatesSection(std::ostream& m, const DiagnosisResult& r) {
   m << "\n## Candidate extensions tried\n\n";
   m << "| model | extends | params | AICc | BIC | F test p | eligible | held-out Fy | held-out W_r |\n"
        "|---|---|---|---|---|---|---|---|---|\n";
@@ -370,6 +380,10 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
   }
   m << "\nSelection:\n";
   for (const std::string& l : r.log) m << "- " << l << "\n";
+}
+
+/// The detection limits (step 6).
+void detectionLimitsSection(std::ostream& m, const DiagnosisResult& r) {
   if (!r.detection_limits.empty()) {
     m << "\n## What these recordings could have shown\n\n";
     m << "The smallest effect of each term that the first selection step would find with probability "
@@ -392,6 +406,10 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
     }
     m << "\nthermal_wear: sigma_T with T0 at the coldest run; load_fluctuation: multiples of the recorded load std.\n";
   }
+}
+
+/// The selected model's parameters and what its residuals still follow.
+void parametersSection(std::ostream& m, const DiagnosisResult& r) {
   m << "\n## Parameters of the selected model\n\n| parameter | unit | value | std error | at bound |\n"
        "|---|---|---|---|---|\n";
   for (const ParameterEstimate& p : r.final_model.summary.parameters)
@@ -409,10 +427,10 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
     if (e.significant) m << " " << outputName(e.output) << "/`" << e.covariate << "`";
   m << "\n";
   for (const std::string& why : r.not_located_after) m << "\nNot tested after: " << why << ".\n";
-  if (!plots.empty()) {
-    m << "\n## Plots\n\n";
-    for (const std::string& p : plots) m << "![" << p << "](" << p << ")\n\n";
-  }
+}
+
+/// The preset decision, the solver-error checks and the noise models.
+void numericsSection(std::ostream& m, const DiagnosisResult& r) {
   m << "\n## Numerics and noise model\n\n";
   m << "- preset: **" << presetName(r.preset) << "**: " << r.numerics_decision << "\n";
   if (!r.numerics_warning.empty()) m << "- **warning**: " << r.numerics_warning << "\n";
@@ -439,6 +457,27 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& dat
   }
   m << "\nSpread of repeats " << pct(r.pure_error[0]) << " / " << pct(r.pure_error[1])
     << " (side force / wear, relative). With few runs the F test and AICc are indicative only.\n";
+}
+
+}  // namespace
+
+std::string diagnosisMarkdown(const DiagnosisResult& r, const DiagnosisData& data, const std::string& source,
+                              const std::vector<std::string>& plots) {
+  std::ostringstream m;
+  m << "# Mismatch diagnosis\n\n";
+  m << "Recordings: `" << source << "` (" << data.runs.size() << " runs; side force measured in "
+    << data.measured_count[0] << ", wear in " << data.measured_count[1] << ").\n\n";
+  verdictSection(m, r, data);
+  empiricalSection(m, r);
+  locateSection(m, r);
+  candidatesSection(m, r);
+  detectionLimitsSection(m, r);
+  parametersSection(m, r);
+  if (!plots.empty()) {
+    m << "\n## Plots\n\n";
+    for (const std::string& p : plots) m << "![" << p << "](" << p << ")\n\n";
+  }
+  numericsSection(m, r);
   m << timingsMarkdown(r);
   return m.str();
 }

@@ -5,16 +5,15 @@
 // recordings at the limit.
 #include <gtest/gtest.h>
 
+#include <Eigen/Dense>
 #include <cmath>
 #include <random>
 #include <stdexcept>
 
-#include <Eigen/Dense>
-
-#include "tread_wear/diagnosis/conceal.h"
-#include "tread_wear/diagnosis/detectability.h"
 #include "tread_wear/diagnosis/diagnosis.h"
 #include "tread_wear/diagnosis/statistics.h"
+#include "tread_wear/proving/conceal.h"
+#include "tread_wear/proving/detectability.h"
 
 using namespace tread_wear;
 using namespace tread_wear::diagnosis;

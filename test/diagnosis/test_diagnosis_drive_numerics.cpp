@@ -7,10 +7,12 @@
 #include <cstdio>
 #include <memory>
 
-#include "tread_wear/diagnosis/conceal.h"
 #include "tread_wear/diagnosis/diagnosis.h"
 #include "tread_wear/diagnosis/numerics_check.h"
 #include "tread_wear/io/params_io.h"
+#include "tread_wear/model/brush_wear_model.h"
+#include "tread_wear/model/wear_model.h"
+#include "tread_wear/proving/conceal.h"
 
 using namespace tread_wear;
 using namespace tread_wear::diagnosis;
@@ -165,7 +167,7 @@ TEST(DriveNumerics, InterpolatedFrictionMatchesTheDirectEvaluation) {
   const DiagnosisData data = buildDiagnosisData(driveCase("none", 0.0, 0.0, 6).table);
   for (const std::vector<Term>& terms : {std::vector<Term>{}, std::vector<Term>{Term::kThermalFriction}}) {
     ExtendedModelOptions direct_options;
-    direct_options.coarse_drive_cells = true;
+    direct_options.coarse_cells_only = true;
     direct_options.interpolate_mu_scale = false;
     ExtendedModelOptions interpolated_options = direct_options;
     interpolated_options.interpolate_mu_scale = true;
@@ -181,5 +183,44 @@ TEST(DriveNumerics, InterpolatedFrictionMatchesTheDirectEvaluation) {
       worst = std::max(worst, std::abs(b.wear_kg_per_m[i] / a.wear_kg_per_m[i] - 1.0));
     EXPECT_LT(worst, terms.empty() ? kTolerance : kThermalTolerance) << termsLabel(terms);
     std::printf("%s: largest relative wear difference of a segment %.3g\n", termsLabel(terms).c_str(), worst);
+  }
+}
+
+TEST(DriveNumerics, ComplianceRootSatisfiesItsEquationOnThePassengerTire) {
+  // lateral_compliance's effective slip angle is the root of a = alpha + c Fy(a). The reference is the equation
+  // itself: the brush model evaluated on its own at a = alpha + c Fy (Fy the prediction) must give that Fy back,
+  // with a between 0 and alpha (the side force opposes the slip). The passenger tire's cornering stiffness makes
+  // c |dFy/dalpha| 7 at 1e-4 rad/N and 200 at the term's bound 3e-3; the former solver's fixed-point first step
+  // ended on the clamp at 1.5 rad there (from 4e-4 rad/N on).
+  const TireParams base = passengerTire();
+  RunTable table;
+  for (double alpha : {0.005, 0.02, 0.05, 0.1}) {
+    RunRecord r;
+    r.op.speed_mps = 20.0;
+    r.op.load_n = 4000.0;
+    r.op.slip_angle_rad = alpha;
+    r.measured_wear_rate_kg_per_m = 1e-8;
+    r.condition_id = std::to_string(alpha);
+    table.runs.push_back(r);
+  }
+  const DiagnosisData data = buildDiagnosisData(table);
+  const ExtendedModel model(base, ExtendedModelOptions(), {Term::kLateralCompliance}, data);
+  TireParams brush_params = base;
+  brush_params.wear.temperature_enabled = false;
+  const BrushWearModel brush(brush_params, presetOptions(Preset::kFast));
+  for (double c : {1e-4, 4e-4, 3e-3}) {
+    Prediction p;
+    ASSERT_TRUE(model.predict({1.0, 1.0, c}, &p));
+    for (std::size_t i = 0; i < data.runs.size(); ++i) {
+      const double alpha = data.runs[i].op.slip_angle_rad;
+      OperatingPoint op = data.runs[i].op;
+      op.slip_angle_rad = alpha + c * p.side_force_n[i];
+      EXPECT_GT(op.slip_angle_rad, 0.0) << "c " << c << ", alpha " << alpha;
+      EXPECT_LT(op.slip_angle_rad, alpha) << "c " << c << ", alpha " << alpha;
+      WearResult r;
+      brush.evaluate(op, &r);
+      // The root to 1e-8 rad (kComplianceTolerance_rad): Fy within the stiffness times that, about 1e-3 N.
+      EXPECT_NEAR(r.fy_n, p.side_force_n[i], 1e-2) << "c " << c << ", alpha " << alpha;
+    }
   }
 }

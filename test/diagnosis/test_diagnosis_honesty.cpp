@@ -5,11 +5,11 @@
 #include <cmath>
 #include <random>
 
-#include "tread_wear/diagnosis/conceal.h"
 #include "tread_wear/diagnosis/diagnosis.h"
 #include "tread_wear/diagnosis/noise_model.h"
 #include "tread_wear/diagnosis/numerics_check.h"
 #include "tread_wear/io/params_io.h"
+#include "tread_wear/proving/conceal.h"
 
 using namespace tread_wear;
 using namespace tread_wear::diagnosis;

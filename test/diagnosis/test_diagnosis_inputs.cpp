@@ -3,20 +3,18 @@
 
 #include <algorithm>
 #include <cstdio>
-
 #include <filesystem>
-#include <functional>
 #include <fstream>
-#include <sstream>
-
+#include <functional>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "common/rig_run.h"
 #include "common/temp_file.h"
 #include "tread_wear/cli/diagnosis_cli.h"
 #include "tread_wear/diagnosis/data.h"
 #include "tread_wear/diagnosis/extensions.h"
-#include "tread_wear/diagnosis/harness.h"
+#include "tread_wear/proving/harness.h"
 
 using namespace tread_wear;
 using namespace tread_wear::diagnosis;

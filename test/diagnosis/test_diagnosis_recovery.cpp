@@ -9,10 +9,10 @@
 #include <optional>
 #include <random>
 
-#include "tread_wear/diagnosis/conceal.h"
 #include "tread_wear/diagnosis/diagnosis.h"
-#include "tread_wear/diagnosis/harness.h"
 #include "tread_wear/io/params_io.h"
+#include "tread_wear/proving/conceal.h"
+#include "tread_wear/proving/harness.h"
 
 using namespace tread_wear;
 using namespace tread_wear::diagnosis;

@@ -13,11 +13,11 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
-#include "tread_wear/diagnosis/conceal.h"
 #include "tread_wear/diagnosis/diagnosis.h"
 #include "tread_wear/diagnosis/empirical.h"
 #include "tread_wear/diagnosis/user_mechanisms.h"
 #include "tread_wear/io/params_io.h"
+#include "tread_wear/proving/conceal.h"
 #include "tread_wear/report/diagnosis_report.h"
 
 using namespace tread_wear;

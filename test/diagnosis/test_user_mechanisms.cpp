@@ -14,11 +14,11 @@
 
 #include "common/temp_file.h"
 #include "tread_wear/cli/diagnosis_cli.h"
-#include "tread_wear/diagnosis/conceal.h"
 #include "tread_wear/diagnosis/diagnosis.h"
-#include "tread_wear/diagnosis/harness.h"
 #include "tread_wear/diagnosis/user_mechanisms.h"
 #include "tread_wear/io/params_io.h"
+#include "tread_wear/proving/conceal.h"
+#include "tread_wear/proving/harness.h"
 
 using namespace tread_wear;
 using namespace tread_wear::diagnosis;

@@ -12,8 +12,8 @@ namespace diagnosis {
 ///     [--design table2|small|low_slip] [--wear-noise RSD] [--force-noise N] [--seed N]
 ///     [--orientation literal|flipped]
 ///     [--generator-preset NAME]   (the preset that generates the truth; default reference, the converged grid)
-///     [--information [--preset NAME]]   (also the case's detectability reference, detectability.h, on stdout and in
-///                                        the answer, for a diagnosis at --preset, default fast)
+///     [--information [--preset NAME]]   (also the case's detectability reference, proving/detectability.h, on
+///                                        stdout and in the answer, for a diagnosis at --preset, default fast)
 /// tread_wear_conceal --list   prints the library (name, parameters, default magnitude, statement).
 int runConcealCli(int argc, const char* const argv[], std::ostream& out, std::ostream& err);
 

@@ -13,7 +13,7 @@ namespace diagnosis {
 ///     [--seed N] [--csv OUT.csv] [--preset auto|NAME] [--generator-preset NAME (default reference)]
 ///     [--force-noise-model auto|additive|relative|combined] [--wear-noise-model auto|additive|relative|combined]
 /// Prints progress to err and the success-rate table to out; --information adds each case's detectability
-/// reference (detectability.h).
+/// reference (proving/detectability.h).
 int runHarnessCli(int argc, const char* const argv[], std::ostream& out, std::ostream& err);
 
 }  // namespace diagnosis

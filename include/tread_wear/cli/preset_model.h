@@ -13,7 +13,7 @@ namespace tread_wear {
 
 /// The model of a preset: the marcher (WearModel) for fast, standard and fine; for reference the independent CVODE
 /// solver (reference_solver.h) at its default tolerances; for a custom grid (--grid) the marcher at that grid.
-/// All with WearModel's low-speed convention (wear_model.h: speed and rolling-speed floors).
+/// All with WearModel's low-speed convention (lowSpeedPoint, wear_model.h: speed and rolling-speed floors).
 class PresetModel {
  public:
   /// With a grid, the marcher at that grid and the reference preset's other options (the --grid option).

@@ -38,7 +38,7 @@
 ///     from the explanation (a sensor gain and a sensor offset, where the design has few low-slip runs).
 ///  Empirical terms (empirical.h): with the verdict "unexplained", a family of empirical terms in the top located
 ///     covariate goes through the same selection; an accepted one is reported beside the verdict, as empirical.
-///  6. Detection limits (detectability.h): for each applicable term, the smallest effect that step 4's first F test
+///  6. Detection limits (detection_limits.h): for each applicable term, the smallest effect that step 4's first F test
 ///     would find with probability detection_power, added to the calibrated base model, at the noise the final
 ///     model leaves (side force in N, wear relative; dof-corrected, floored as the weights). They say what a
 ///     `none` rules out.
@@ -53,7 +53,7 @@
 #include <vector>
 
 #include "tread_wear/diagnosis/data.h"
-#include "tread_wear/diagnosis/detectability.h"
+#include "tread_wear/diagnosis/detection_limits.h"
 #include "tread_wear/diagnosis/empirical.h"
 #include "tread_wear/diagnosis/extensions.h"
 #include "tread_wear/diagnosis/noise_model.h"
@@ -193,8 +193,8 @@ struct DiagnosisResult {
   double seconds = 0.0;                          ///< wall time of the whole diagnosis [s]
 };
 
-/// The detectability settings (detectability.h) that match a diagnosis's: its selection level, AICc drop, candidates,
-/// model and solver, at the given noise levels (relative wear RSD [-], side force [N]).
+/// The detectability settings (detection_limits.h) that match a diagnosis's: its selection level, AICc drop,
+/// candidates, model and solver, at the given noise levels (relative wear RSD [-], side force [N]).
 DetectabilityOptions detectabilityOptions(const DiagnosisOptions& diagnosis, double wear_noise_rsd,
                                           double side_force_noise_n);
 

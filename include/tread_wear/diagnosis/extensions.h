@@ -29,8 +29,8 @@
 /// Eq 23 for a normal load distribution is the integral of W_r(Fz) over N(mean, std^2); the paper's 10 N bins are
 /// one quadrature of it. The 3-point Gauss-Hermite rule (nodes mean, mean +- sqrt(3) std; weights 2/3, 1/6, 1/6)
 /// is exact for polynomials up to degree 5 and smooth in s_load, which a least-squares Jacobian needs.
-/// Lateral compliance solves alpha_eff = alpha + c_lat Fy(alpha_eff) by secant iteration (|dFy/dalpha| c_lat < 1
-/// for any plausible compliance, so the root is unique).
+/// Lateral compliance solves alpha_eff = alpha + c_lat Fy(alpha_eff) by secant iteration, the first step exact for a
+/// linear tire (the root is unique where Fy falls with the slip angle).
 /// Drive segments (DiagnosisRun::isDrive) are predicted from their integrated operating points, binned into cells
 /// (point_cells.h) at two resolutions that all segments share: fine cells (the default PointCellParams, within
 /// 0.25% of the replay's wear per segment, docs/diagnosis.md) and coarse ones (4 times the load width, 5 times the
@@ -83,6 +83,8 @@ struct UserMechanism;
 class MechanismEvaluator;
 struct DriveCells;
 struct DriveNodeColumn;
+struct DriveCellFactors;
+struct DriveCellView;
 
 struct TermParameterSpec {
   std::string name;     ///< e.g. "compliance_rad_per_n"
@@ -146,7 +148,7 @@ struct ExtendedModelOptions {
   TurnSlipOrientation orientation = TurnSlipOrientation::kLiteral;  ///< base orientation
   /// Drive segments on the coarse cells only (the solver-error check: the difference of two presets varies
   /// little across a coarse cell); otherwise fine cells with the coarse correction (see the file comment).
-  bool coarse_drive_cells = false;
+  bool coarse_cells_only = false;
   /// Drive segments: with no pressure, compliance or spread term away from its no-effect value, a coarse cell's
   /// results are interpolated (Catmull-Rom, in the ln of its friction factor: mu_scale times thermal_friction's
   /// factor at the cell's temperature) between results at nodes kMuScaleNodeSpacing apart, each evaluated once
@@ -188,16 +190,16 @@ class ExtendedModel {
   int parameterOffset(Term term) const;
   /// Predicts all runs. Returns false when the brush model cannot be evaluated at these values.
   bool predict(const std::vector<double>& values, Prediction* out) const;
-  /// With coarse_drive_cells: evaluates the brush model at `values` at the listed coarse cells only (uncached; the
+  /// With coarse_cells_only: evaluates the brush model at `values` at the listed coarse cells only (uncached; the
   /// solver-error check's sample, numerics_check.h) and gives each cell's contributions to the segments that
   /// share it. A drive segment's coarse prediction (predict) is the sum of its cells' contributions, plus a sensor
   /// offset and user terms, which act per segment; the difference of two presets' contributions is therefore the
   /// cell's part of the segments' solver error. Returns false when the model cannot be evaluated there.
-  /// @throw std::logic_error without coarse_drive_cells.
+  /// @throw std::logic_error without coarse_cells_only.
   bool coarseCellContributions(const std::vector<double>& values, const std::vector<int>& cells,
                                std::vector<std::vector<CellContribution>>* out) const;
   /// The coarse drive cells shared by all segments (0 without drive segments).
-  std::size_t coarseDriveCells() const;
+  std::size_t coarseCellCount() const;
   /// Operating points the brush model is evaluated at per new set of brush-relevant parameter values: the distinct
   /// steady conditions plus the coarse cells of all drive segments together (drive cells, below).
   std::size_t evaluationPoints() const;
@@ -242,9 +244,17 @@ class ExtendedModel {
   const DriveNodeColumn* nodeColumn(long node, const std::vector<int>& cells) const;
   /// The brush results of the steady runs and coarse cells at `setting` (points with a null entry are skipped).
   std::vector<const DiagnosisRun*> brushPoints(bool steady, bool coarse) const;
-  /// The fine drive cells at `values`: at the base parameters, carried by the coarse cells' change in `raw`.
-  bool fineDriveResults(const std::vector<double>& values, const std::vector<RawResult>& raw,
-                        std::vector<RawResult>* fine) const;
+  /// The fine (or coarse) drive cells evaluated at the base brush parameters, once per preset key (cached with the
+  /// data). @throw what the brush model throws.
+  const std::vector<RawResult>& baseCellResults(bool fine) const;
+  /// The fine (or coarse) drive cells' wear factors that do not depend on the parameters (cached with the data).
+  const DriveCellFactors& cellFactors(bool fine) const;
+  /// The drive cells' results at `values` (`raw`: rawResults); false when they cannot be evaluated.
+  bool driveCellView(const std::vector<double>& values, const std::vector<RawResult>& raw, DriveCellView* view) const;
+  /// A drive segment's Fy (time-weighted) and W_r (distance-weighted) over its cells, before the sensor and user
+  /// terms.
+  void predictSegment(const std::vector<double>& values, const DriveCellView& view, int run, double* fy_n,
+                      double* wear_kg_per_m) const;
   /// What the cached results of the drive cells depend on besides the brush parameters: the preset, the
   /// orientation and the tire file's friction and wear levels.
   std::vector<double> presetKey() const;

@@ -31,8 +31,8 @@ struct UserMechanism {
   int expression_line = 0;
   std::string expression;
   std::vector<std::string> covariates;  ///< declared recorded columns
-  /// the first parameter's magnitudes for generated cases (conceal.h: the last is the default; harness.h: small and
-  /// large); empty = none
+  /// the first parameter's magnitudes for generated cases (proving/conceal.h: the last is the default;
+  /// proving/harness.h: small and large); empty = none
   std::vector<double> test_magnitudes;
   /// operating variables and covariates the expression reads (its applicability needs them on every run)
   std::vector<std::string> data_variables;

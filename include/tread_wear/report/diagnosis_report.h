@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "tread_wear/diagnosis/conceal.h"
-#include "tread_wear/diagnosis/detectability.h"
 #include "tread_wear/diagnosis/diagnosis.h"
+#include "tread_wear/proving/conceal.h"
+#include "tread_wear/proving/detectability.h"
 
 namespace tread_wear {
 namespace diagnosis {

@@ -1,15 +1,14 @@
-#include "tread_wear/diagnosis/detectability.h"
+#include "tread_wear/diagnosis/detection_limits.h"
 
+#include <Eigen/Dense>
 #include <algorithm>
+#include <boost/math/distributions/fisher_f.hpp>
+#include <boost/math/distributions/non_central_f.hpp>
 #include <cmath>
 #include <cstdio>
 #include <map>
 #include <random>
 #include <stdexcept>
-
-#include <Eigen/Dense>
-#include <boost/math/distributions/fisher_f.hpp>
-#include <boost/math/distributions/non_central_f.hpp>
 
 #include "tread_wear/diagnosis/statistics.h"
 
@@ -21,60 +20,6 @@ namespace {
 constexpr double kCertainLambda = 1e4;
 /// Finite-difference step of the Jacobians, relative to the parameter's scale [-].
 constexpr double kJacobianStep = 1e-5;
-
-/// Parameters of base + terms: the two levels, the terms' parameters, and the orientation switch counted as one
-/// (as the diagnosis's AICc does).
-int parameterCount(const std::vector<Term>& terms) {
-  int p = 2;
-  for (Term t : terms) p += static_cast<int>(termInfo(t).parameters.size()) + (t == Term::kTurnSlipOrientation);
-  return p;
-}
-
-/// Whether the options ask for the term (no candidates: every term).
-bool wanted(const DetectabilityOptions& options, Term term) {
-  return options.candidates.empty() ||
-         std::find(options.candidates.begin(), options.candidates.end(), term) != options.candidates.end();
-}
-
-/// Level of the first-step F test of a term among `terms_tried` (Bonferroni), doubled for a term whose no-effect
-/// value is a bound (the boundary test: p / 2 < level while the estimate is off the bound).
-double firstStepLevel(Term term, double alpha_select, int terms_tried) {
-  const double level = alpha_select / std::max(1, terms_tried);
-  return neutralOnBound(termInfo(term)) ? 2.0 * level : level;
-}
-
-/// Measured values of the recordings (side force and wear, where recorded).
-int measuredValues(const DiagnosisData& data) {
-  int n = 0;
-  for (const DiagnosisRun& r : data.runs)
-    for (int o = 0; o < kNumOutputs; ++o) n += std::isfinite(r.measured[o]) ? 1 : 0;
-  return n;
-}
-
-/// A model fitted to the noise-free recordings and linearised there (Gauss-Newton), in noise units over the
-/// measured values.
-struct LinearisedModel {
-  std::vector<Term> terms;
-  int k = 0;                  ///< parameters, as the diagnosis counts them
-  bool usable = false;
-  Eigen::VectorXd residual;   ///< r_M: noise-free residual at the best fit
-  Eigen::MatrixXd basis;      ///< orthonormal basis of the free Jacobian columns
-  Eigen::MatrixXd pseudo_inverse;  ///< of the free Jacobian columns: the parameter step that fits a residual change
-  int one_sided = -1;         ///< column of a parameter on its lower bound that may only grow, -1 if none
-  std::vector<ReferenceParameter> parameters;  ///< best-fit values; standard errors from the free columns
-  Eigen::MatrixXd basis_without;  ///< basis without that column
-
-  /// Residual sum of squares on truth + noise (noise in noise units over the measured values).
-  double rss(const Eigen::VectorXd& noise) const {
-    const Eigen::VectorXd e = residual - noise;
-    if (one_sided >= 0) {
-      // The parameter step that fits -e is -(R^-1 Q^T e); a negative step would cross the bound.
-      if (-pseudo_inverse.row(one_sided).dot(e) < 0.0)
-        return e.squaredNorm() - (basis_without.transpose() * e).squaredNorm();
-    }
-    return e.squaredNorm() - (basis.transpose() * e).squaredNorm();
-  }
-};
 
 class Linearisation {
  public:
@@ -203,11 +148,45 @@ class Linearisation {
   std::vector<Row> rows_;
 };
 
+}  // namespace
+
+/// Parameters of base + terms: the two levels, the terms' parameters, and the orientation switch counted as one
+/// (as the diagnosis's AICc does).
+int parameterCount(const std::vector<Term>& terms) {
+  int p = 2;
+  for (Term t : terms) p += static_cast<int>(termInfo(t).parameters.size()) + (t == Term::kTurnSlipOrientation);
+  return p;
+}
+
+/// Whether the options ask for the term (no candidates: every term).
+bool candidateWanted(const DetectabilityOptions& options, Term term) {
+  return options.candidates.empty() ||
+         std::find(options.candidates.begin(), options.candidates.end(), term) != options.candidates.end();
+}
+
+/// Level of the first-step F test of a term among `terms_tried` (Bonferroni), doubled for a term whose no-effect
+/// value is a bound (the boundary test: p / 2 < level while the estimate is off the bound).
+double firstStepLevel(Term term, double alpha_select, int terms_tried) {
+  const double level = alpha_select / std::max(1, terms_tried);
+  return neutralOnBound(termInfo(term)) ? 2.0 * level : level;
+}
+
+/// Measured values of the recordings (side force and wear, where recorded).
+int measuredValues(const DiagnosisData& data) {
+  int n = 0;
+  for (const DiagnosisRun& r : data.runs)
+    for (int o = 0; o < kNumOutputs; ++o) n += std::isfinite(r.measured[o]) ? 1 : 0;
+  return n;
+}
+
 double fCritical(double df1, double df2, double level) {
   return boost::math::quantile(boost::math::complement(boost::math::fisher_f(df1, df2), level));
 }
 
-}  // namespace
+LinearisedModel linearisedFit(const TireParams& base, const DiagnosisData& truth, const DetectabilityOptions& options,
+                              const std::vector<Term>& terms) {
+  return Linearisation(base, truth, options).fit(terms);
+}
 
 bool DetectabilityOptions::validate(std::string* error) const {
   auto fail = [&](const std::string& m) {
@@ -232,86 +211,6 @@ double fTestPower(double lambda, double df1, double df2, double level) {
   if (lambda == 0.0) return level;
   return boost::math::cdf(
       boost::math::complement(boost::math::non_central_f(df1, df2, lambda), fCritical(df1, df2, level)));
-}
-
-Detectability detectability(const TireParams& base, const DiagnosisData& truth, const std::string& hidden,
-                            const DetectabilityOptions& options) {
-  std::string error;
-  if (!options.validate(&error)) throw std::invalid_argument(error);
-  Term hidden_term = Term::kNone;
-  if (hidden != "none" && !parseTerm(hidden, &hidden_term))
-    throw std::invalid_argument("detectability: '" + hidden + "' is not a library term or none");
-
-  Detectability d;
-  d.hidden = hidden;
-  std::vector<Term> applicable;
-  for (const TermInfo& info : termLibrary()) {
-    if (wanted(options, info.term) && termApplicable(info.term, truth, nullptr)) applicable.push_back(info.term);
-  }
-  d.terms_tried = static_cast<int>(applicable.size());
-
-  const Linearisation linearisation(base, truth, options);
-  const int n = linearisation.measured();
-  const LinearisedModel base_model = linearisation.fit({});
-  if (!base_model.usable) throw std::invalid_argument("detectability: the base model cannot be fitted to the truth");
-  std::vector<LinearisedModel> candidates;
-  for (Term t : applicable) {
-    LinearisedModel m = linearisation.fit({t});
-    if (m.usable) candidates.push_back(std::move(m));
-  }
-  int largest_k = base_model.k;
-  for (const LinearisedModel& m : candidates) largest_k = std::max(largest_k, m.k);
-  if (n - largest_k - 1 <= 0)
-    throw std::invalid_argument("detectability: " + std::to_string(n) + " measured values are too few for models " +
-                                "with " + std::to_string(largest_k) + " parameters");
-  d.lambda = base_model.residual.squaredNorm();
-  const bool hidden_tried = std::find(applicable.begin(), applicable.end(), hidden_term) != applicable.end();
-  if (hidden_term != Term::kNone && !hidden_tried) {
-    d.power = 0.0;  // the data cannot show it (e.g. no temperatures for a thermal term): never tested
-  } else if (hidden_term != Term::kNone) {
-    for (const LinearisedModel& m : candidates)
-      if (m.terms.front() == hidden_term) d.parameters = m.parameters;
-    const int k_term = parameterCount({hidden_term}) - base_model.k;
-    d.power = fTestPower(d.lambda, k_term, n - parameterCount({hidden_term}),
-                         firstStepLevel(hidden_term, options.alpha_select, d.terms_tried));
-  }
-
-  // The first selection step on noise draws. The F test's threshold as a critical value of the statistic:
-  // p < level, or for a one-sided term p / 2 < level while its estimate is off the bound.
-  std::vector<double> critical;
-  for (const LinearisedModel& m : candidates)
-    critical.push_back(
-        fCritical(m.k - base_model.k, n - m.k, firstStepLevel(m.terms.front(), options.alpha_select, d.terms_tried)));
-  std::mt19937_64 rng(options.seed);
-  std::normal_distribution<double> normal(0.0, 1.0);
-  Eigen::VectorXd noise(n);
-  std::map<std::string, int> counts;
-  for (int draw = 0; draw < options.draws; ++draw) {
-    for (int i = 0; i < n; ++i) noise(i) = normal(rng);
-    const double rss_base = base_model.rss(noise);
-    const double aicc_base = aicc(rss_base, n, base_model.k);
-    std::string verdict = "none";
-    double best_aicc = 0.0;
-    for (std::size_t c = 0; c < candidates.size(); ++c) {
-      const LinearisedModel& m = candidates[c];
-      const double rss = m.rss(noise);
-      const double f = ((rss_base - rss) / (m.k - base_model.k)) / (rss / (n - m.k));
-      const double a = aicc(rss, n, m.k);
-      if (!(f > critical[c]) || aicc_base - a < options.min_aicc_drop) continue;
-      if (verdict == "none" || a < best_aicc) {
-        verdict = termInfo(m.terms.front()).name;
-        best_aicc = a;
-      }
-    }
-    ++counts[verdict];
-  }
-  for (const auto& [verdict, count] : counts)
-    d.verdicts.push_back({verdict, static_cast<double>(count) / options.draws});
-  std::sort(d.verdicts.begin(), d.verdicts.end(),
-            [](const OracleVerdict& a, const OracleVerdict& b) { return a.probability > b.probability; });
-  const auto right = counts.find(hidden);
-  d.expected_right = right == counts.end() ? 0.0 : static_cast<double>(right->second) / options.draws;
-  return d;
 }
 
 namespace {
@@ -428,9 +327,9 @@ void searchLimit(const TireParams& base, const DiagnosisData& data, double w3_sc
     for (int i = 0; i < 20 && std::isnan(f_hi) && d_max > 2.0 * d_min; ++i) f_hi = excess(d_max *= 0.5);
     if (!(f_hi >= 0.0)) {
       char text[160];
-      std::snprintf(text, sizeof(text), "%s: power %.2f at most, at %s = %.4g",
-                    side < 0 ? "below" : "above", std::isnan(f_hi) ? 0.0 : test.power(std::pow(f_hi + target, 2)),
-                    size.name.c_str(), values[info.primary]);
+      std::snprintf(text, sizeof(text), "%s: power %.2f at most, at %s = %.4g", side < 0 ? "below" : "above",
+                    std::isnan(f_hi) ? 0.0 : test.power(std::pow(f_hi + target, 2)), size.name.c_str(),
+                    values[info.primary]);
       notes.push_back(text);
       continue;
     }
@@ -479,11 +378,13 @@ std::vector<DetectionLimit> detectionLimits(const TireParams& base, const Diagno
   std::vector<Term> applicable;
   std::vector<DetectionLimit> limits;
   for (const TermInfo& info : termLibrary()) {
-    if (!wanted(options, info.term)) continue;
+    if (!candidateWanted(options, info.term)) continue;
     DetectionLimit limit;
     limit.term = info.name;
-    if (termApplicable(info.term, data, &limit.note)) applicable.push_back(info.term);
-    else limit.note = "not applicable: " + limit.note;
+    if (termApplicable(info.term, data, &limit.note))
+      applicable.push_back(info.term);
+    else
+      limit.note = "not applicable: " + limit.note;
     limits.push_back(limit);
   }
   const int n = measuredValues(data);

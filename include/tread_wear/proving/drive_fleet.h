@@ -1,5 +1,5 @@
 #pragma once
-/// @file conceal_drives.h
+/// @file drive_fleet.h
 /// The concealed-effect generator's drive design (`drives`, conceal.h): road drives of a few vehicles whose tires'
 /// wear is measured at checkpoints every few thousand kilometres on every wheel, so that the diagnosis is proved on
 /// drive segments (extensions.h: a run with drive points) as well as on rig runs.
@@ -21,7 +21,7 @@
 /// gives the same inputs: ONE cycle is simulated per (vehicle, segment) and its time and distance weights are
 /// multiplied by the number of repetitions, round(segment_distance_m / cycle distance) >= 1 (each repetition
 /// starts cold, as the simulated cycle does).
-/// Cells: the points are binned far coarser than point_cells.h's defaults (coarseDriveCells(): about 80 cells per
+/// Cells: the points are binned far coarser than point_cells.h's defaults (fleetCells(): about 80 cells per
 /// wheel and segment instead of about 4500), so that a case costs minutes: at the defaults 72 segments gave 324k
 /// cells, and one prediction at `reference` (about 3 ms a cell) a quarter of an hour. The truth and the diagnosis
 /// see the same cells, so the binning is part of the case, not an error of the proof; what binning costs against
@@ -64,7 +64,7 @@ constexpr const char* kRoughRoadEffect = "rough_road";
 
 /// The drive design's cells (point_cells.h's asinh widths): load 0.7 (a bin per factor of about 2 above 100 N),
 /// |alpha| and |kappa| 2.5 above 1e-3, speed 1.5 above 1 m/s, |1/R| 3 above 1e-3 1/m, tread temperature 10 degC.
-PointCellParams coarseDriveCells();
+PointCellParams fleetCells();
 
 /// The fleet and measurement plan of the drive design.
 struct DriveFleet {
@@ -76,7 +76,7 @@ struct DriveFleet {
   double payload_max_kg = 300.0;                ///< largest payload of a segment [kg], >= 0
   double depth_gauge_sigma_m = 0.0;             ///< tread-depth reading noise [m], >= 0 (0: weighed only)
   /// Cells of the segments' points (point_cells.h); coarser than the defaults (see the file comment)
-  PointCellParams cells = coarseDriveCells();
+  PointCellParams cells = fleetCells();
 
   /// Names the first field that is missing or out of range.
   bool validate(std::string* error) const;

@@ -14,7 +14,7 @@
 ///           sliding distance): small side forces, where an additive transducer noise is a large error ratio
 ///           (issue 26).
 ///   drives  road drives of a fleet (ConcealSpec::fleet) measured at checkpoints on every wheel, each run a drive
-///           segment: conceal_drives.h. Hidden effects: a library term, or `rough_road` (kRoughRoadEffect), a
+///           segment: drive_fleet.h. Hidden effects: a library term, or `rough_road` (kRoughRoadEffect), a
 ///           road-surface dependence that no library term has; wear only (no side force on drives).
 /// Truth per case: w3_scale ~ exp(N(0, 0.15^2)) and mu_scale ~ exp(N(0, 0.04^2)) (the file's level is never
 /// exact), plus the hidden term at the requested magnitude. Covariates a rig records: tread temperature
@@ -30,9 +30,9 @@
 #include <map>
 #include <string>
 
-#include "tread_wear/diagnosis/conceal_drives.h"
 #include "tread_wear/diagnosis/extensions.h"
 #include "tread_wear/io/run_table.h"
+#include "tread_wear/proving/drive_fleet.h"
 
 namespace tread_wear {
 namespace diagnosis {
@@ -40,12 +40,12 @@ namespace diagnosis {
 struct ConcealSpec {
   std::string effect = "none";  ///< library name, "none", or (design drives) kRoughRoadEffect
   double magnitude = std::numeric_limits<double>::quiet_NaN();  ///< primary parameter; NaN = the default
-  std::string design = "table2";  ///< "table2", "small", "low_slip" or "drives"
-  double wear_noise_rsd = 0.05;   ///< relative wear noise [-], >= 0
-  double side_force_noise_n = 1.0;  ///< side-force noise [N], >= 0
+  std::string design = "table2";                                ///< "table2", "small", "low_slip" or "drives"
+  double wear_noise_rsd = 0.05;                                 ///< relative wear noise [-], >= 0
+  double side_force_noise_n = 1.0;                              ///< side-force noise [N], >= 0
   std::uint64_t seed = 1;
-  ExtendedModelOptions model;     ///< preset and orientation of the generating model (the tools: `reference`)
-  DriveFleet fleet;               ///< the drive design's fleet and measurement plan (design drives only)
+  ExtendedModelOptions model;  ///< preset and orientation of the generating model (the tools: `reference`)
+  DriveFleet fleet;            ///< the drive design's fleet and measurement plan (design drives only)
 
   bool validate(std::string* error) const;
 };

@@ -21,7 +21,7 @@
 ///   empirical  (out-of-library cases, HarnessOptions::out_of_library) the diagnosis, whose library lacks the hidden
 ///              user-defined mechanism, gives an empirical term (empirical.h) in a covariate the mechanism reads,
 ///              with a lower held-out RMSER of the output it affects than the base model's
-/// Design `drives` (conceal_drives.h): the effects are thermal_wear and rough_road (HarnessOptions::effects may
+/// Design `drives` (drive_fleet.h): the effects are thermal_wear and rough_road (HarnessOptions::effects may
 /// name either), diagnosed with the whole library. rough_road is in no library term: it is `right` when the
 /// diagnosis gives an empirical term in rough_road_share (the covariate the effect reads) with a lower held-out
 /// wear RMSER than the base model's (scored as `empirical` too, and as `improved`); its parameter is scored when the
@@ -41,9 +41,9 @@
 #include <string>
 #include <vector>
 
-#include "tread_wear/diagnosis/conceal.h"
-#include "tread_wear/diagnosis/detectability.h"
 #include "tread_wear/diagnosis/diagnosis.h"
+#include "tread_wear/proving/conceal.h"
+#include "tread_wear/proving/detectability.h"
 
 namespace tread_wear {
 namespace diagnosis {
@@ -58,7 +58,7 @@ struct HarnessOutcome {
   HarnessCase c;
   std::string explanation;
   bool right = false;
-  bool named = false;  ///< right, or the hidden term is a close alternative of the explanation (diagnosis.h)
+  bool named = false;          ///< right, or the hidden term is a close alternative of the explanation (diagnosis.h)
   bool sensor_scored = false;  ///< the hidden effect does not touch the side force (see above)
   bool false_sensor = false;   ///< and the verdict names a sensor term
   std::string preset;          ///< the diagnosis's preset after any escalation
@@ -71,27 +71,27 @@ struct HarnessOutcome {
   double cv_before[kNumOutputs] = {0.0, 0.0}, cv_after[kNumOutputs] = {0.0, 0.0};
   bool empirical_scored = false, empirical_ok = false;  ///< out-of-library case; its criterion met
   std::string empirical_covariate;                      ///< covariate of the empirical term given, "" for none
-  bool information = false;  ///< the reference below was computed
-  Detectability reference;   ///< detectability of the hidden term on this case's noise-free recordings
+  bool information = false;                             ///< the reference below was computed
+  Detectability reference;  ///< detectability of the hidden term on this case's noise-free recordings
   double reference_parameter_ok = std::numeric_limits<double>::quiet_NaN();  ///< probability, see above [-]
-  std::string reference_error;  ///< why the reference could not be computed (the verdict still counts)
-  double seconds = 0.0;           ///< generation, diagnosis and scoring [s]
-  double diagnosis_seconds = 0.0; ///< the diagnosis alone [s]
-  std::size_t cells = 0;          ///< operating points the model evaluates per set of brush parameters [-]
-  std::string error;  ///< non-empty when the case failed to run
+  std::string reference_error;     ///< why the reference could not be computed (the verdict still counts)
+  double seconds = 0.0;            ///< generation, diagnosis and scoring [s]
+  double diagnosis_seconds = 0.0;  ///< the diagnosis alone [s]
+  std::size_t cells = 0;           ///< operating points the model evaluates per set of brush parameters [-]
+  std::string error;               ///< non-empty when the case failed to run
 };
 
 struct HarnessOptions {
-  std::string design = "table2";  ///< a ConcealSpec design
-  DriveFleet fleet;               ///< the fleet of design drives
-  int repeats = 5;                              ///< seeds per (effect, magnitude, noise), >= 1
-  int control_repeats = 20;                     ///< no-effect controls per noise level, >= 0
+  std::string design = "table2";                  ///< a ConcealSpec design
+  DriveFleet fleet;                               ///< the fleet of design drives
+  int repeats = 5;                                ///< seeds per (effect, magnitude, noise), >= 1
+  int control_repeats = 20;                       ///< no-effect controls per noise level, >= 0
   std::vector<double> wear_noise = {0.05, 0.10};  ///< wear RSD levels [-]
-  double side_force_noise_n = 1.0;              ///< at wear RSD 5%; scaled with the wear noise level
+  double side_force_noise_n = 1.0;                ///< at wear RSD 5%; scaled with the wear noise level
   std::vector<std::string> effects;  ///< empty = every library term (design drives: thermal_wear and rough_road)
-  bool two_magnitudes = true;                   ///< small and large magnitude (else the default only)
-  int jobs = 1;                                 ///< worker threads
-  bool information = false;                     ///< also each case's detectability reference (about a third more time)
+  bool two_magnitudes = true;        ///< small and large magnitude (else the default only)
+  int jobs = 1;                      ///< worker threads
+  bool information = false;          ///< also each case's detectability reference (about a third more time)
   /// Out-of-library cases: every case (controls too) is diagnosed with the built-in library less the hidden term,
   /// so that a hidden user-defined mechanism is one the library lacks (scored: empirical)
   bool out_of_library = false;

@@ -1,4 +1,4 @@
-// The concealed-effect generator's drive design (conceal_drives.h) against references of its own: the distance a
+// The concealed-effect generator's drive design (drive_fleet.h) against references of its own: the distance a
 // segment integrates against the cycle's distance times its repetitions, the truth without an effect against the
 // base model, rough_road's truth against its formula, the plan's shape, the errors of bad specs; and one small
 // drive case end to end through the diagnosis.
@@ -9,10 +9,10 @@
 #include <map>
 #include <memory>
 
-#include "tread_wear/diagnosis/conceal.h"
 #include "tread_wear/diagnosis/diagnosis.h"
-#include "tread_wear/diagnosis/harness.h"
 #include "tread_wear/io/params_io.h"
+#include "tread_wear/proving/conceal.h"
+#include "tread_wear/proving/harness.h"
 
 using namespace tread_wear;
 using namespace tread_wear::diagnosis;

@@ -1,4 +1,4 @@
-#include "tread_wear/diagnosis/harness.h"
+#include "tread_wear/proving/harness.h"
 
 #include <algorithm>
 #include <atomic>
@@ -11,9 +11,8 @@
 #include <stdexcept>
 #include <thread>
 
-#include "tread_wear/diagnosis/user_mechanisms.h"
-
 #include "tread_wear/diagnosis/statistics.h"
+#include "tread_wear/diagnosis/user_mechanisms.h"
 
 namespace tread_wear {
 namespace diagnosis {
@@ -30,14 +29,22 @@ std::vector<std::pair<std::string, double>> magnitudes(Term t, bool two) {
   }
   if (!two || t == Term::kTurnSlipOrientation) return {{"default", defaultMagnitude(t)}};
   switch (t) {
-    case Term::kThermalWear: return {{"small", 45.0}, {"large", 30.0}};
-    case Term::kThermalFriction: return {{"small", 0.003}, {"large", 0.006}};
-    case Term::kSurfacePolishing: return {{"small", 0.3}, {"large", 0.8}};
-    case Term::kLateralCompliance: return {{"small", 2e-4}, {"large", 4e-4}};
-    case Term::kPressureFriction: return {{"small", 0.30}, {"large", 0.50}};
-    case Term::kLoadFluctuation: return {{"small", 0.25}, {"large", 0.40}};
-    case Term::kSensorGain: return {{"small", 1.05}, {"large", 1.10}};
-    case Term::kSensorOffset: return {{"small", 2.5}, {"large", 5.0}};
+    case Term::kThermalWear:
+      return {{"small", 45.0}, {"large", 30.0}};
+    case Term::kThermalFriction:
+      return {{"small", 0.003}, {"large", 0.006}};
+    case Term::kSurfacePolishing:
+      return {{"small", 0.3}, {"large", 0.8}};
+    case Term::kLateralCompliance:
+      return {{"small", 2e-4}, {"large", 4e-4}};
+    case Term::kPressureFriction:
+      return {{"small", 0.30}, {"large", 0.50}};
+    case Term::kLoadFluctuation:
+      return {{"small", 0.25}, {"large", 0.40}};
+    case Term::kSensorGain:
+      return {{"small", 1.05}, {"large", 1.10}};
+    case Term::kSensorOffset:
+      return {{"small", 2.5}, {"large", 5.0}};
     case Term::kContactTimeWear:
       return {{"small", 1.5e-5}, {"large", 3e-5}};
     default: {
@@ -63,8 +70,8 @@ std::string pctWithInterval(int num, int den) {
   if (den == 0) return "-";
   const ProportionInterval ci = wilsonInterval(num, den);
   std::ostringstream s;
-  s << pct(num, den) << " [95% CI " << std::fixed << std::setprecision(1) << 100.0 * ci.lower << "-"
-    << 100.0 * ci.upper << "%]";
+  s << pct(num, den) << " [95% CI " << std::fixed << std::setprecision(1) << 100.0 * ci.lower << "-" << 100.0 * ci.upper
+    << "%]";
   return s.str();
 }
 
@@ -91,12 +98,14 @@ std::string referenceCsv(const HarnessOutcome& o) {
   if (!o.information) return ",,,,,";
   const Detectability& d = o.reference;
   std::ostringstream s;
-  s << std::setprecision(6) << d.lambda << "," << d.power << "," << d.expected_right << ","
-    << o.reference_parameter_ok << ",";
-  const auto wrong = std::find_if(d.verdicts.begin(), d.verdicts.end(),
-                                  [&](const OracleVerdict& v) { return v.verdict != d.hidden; });
-  if (wrong != d.verdicts.end()) s << wrong->verdict << "," << wrong->probability;
-  else s << ",";
+  s << std::setprecision(6) << d.lambda << "," << d.power << "," << d.expected_right << "," << o.reference_parameter_ok
+    << ",";
+  const auto wrong =
+      std::find_if(d.verdicts.begin(), d.verdicts.end(), [&](const OracleVerdict& v) { return v.verdict != d.hidden; });
+  if (wrong != d.verdicts.end())
+    s << wrong->verdict << "," << wrong->probability;
+  else
+    s << ",";
   return s.str();
 }
 
@@ -109,8 +118,8 @@ HarnessOutcome scoreRoughRoad(HarnessOutcome o, const ConcealAnswer& answer, con
   const int wear = static_cast<int>(Output::kWear);
   for (const EmpiricalTerm& e : result.empirical.terms) {
     o.empirical_covariate = e.covariate;
-    o.empirical_ok = e.covariate == "rough_road_share" && e.output == Output::kWear &&
-                     e.cv_rmser_after < e.cv_rmser_before;
+    o.empirical_ok =
+        e.covariate == "rough_road_share" && e.output == Output::kWear && e.cv_rmser_after < e.cv_rmser_before;
     o.cv_after[wear] = e.cv_rmser_after;
     if (o.empirical_ok && e.form == "linear" && !e.parameters.empty()) {
       o.parameter_estimated = true;
@@ -295,54 +304,113 @@ std::vector<HarnessOutcome> runHarness(const TireParams& base, const HarnessOpti
   return outcomes;
 }
 
-std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
-  // Counts over cases; `n` counts the cases that ran (failed ones only in `errors`).
-  struct Tally {
-    int n = 0, right = 0, named = 0, sensor_scored = 0, false_sensor = 0, pscored = 0, pok = 0, pok_relative = 0,
-        pestimated = 0, pcovered = 0, iscored = 0, iok = 0, all_met = 0, errors = 0, referenced = 0,
-        reference_errors = 0, escored = 0, eok = 0;
-    double expected_right = 0.0;  ///< sum of the cases' detectability references
-    int parameter_referenced = 0;
-    double expected_parameter = 0.0;  ///< sum of their reference_parameter_ok
+namespace {
 
-    void add(const HarnessOutcome& o) {
-      if (!o.error.empty()) {
-        ++errors;
-        return;
-      }
-      ++n;
-      right += o.right;
-      named += o.named;
-      sensor_scored += o.sensor_scored;
-      false_sensor += o.false_sensor;
-      pscored += o.parameter_scored;
-      pok += o.parameter_ok;
-      pok_relative += o.parameter_ok_relative;
-      all_met += o.all_met;
-      pestimated += o.parameter_estimated;
-      pcovered += o.parameter_covered;
-      iscored += o.improved_scored;
-      iok += o.improved;
-      escored += o.empirical_scored;
-      eok += o.empirical_ok;
-      referenced += o.information;
-      reference_errors += !o.reference_error.empty();
-      if (o.information) expected_right += o.reference.expected_right;
-      if (std::isfinite(o.reference_parameter_ok)) {
-        ++parameter_referenced;
-        expected_parameter += o.reference_parameter_ok;
-      }
+/// Counts over cases; `n` counts the cases that ran (failed ones only in `errors`).
+struct Tally {
+  int n = 0, right = 0, named = 0, sensor_scored = 0, false_sensor = 0, pscored = 0, pok = 0, pok_relative = 0,
+      pestimated = 0, pcovered = 0, iscored = 0, iok = 0, all_met = 0, errors = 0, referenced = 0, reference_errors = 0,
+      escored = 0, eok = 0;
+  double expected_right = 0.0;  ///< sum of the cases' detectability references
+  int parameter_referenced = 0;
+  double expected_parameter = 0.0;  ///< sum of their reference_parameter_ok
+
+  void add(const HarnessOutcome& o) {
+    if (!o.error.empty()) {
+      ++errors;
+      return;
     }
-    /// Mean detectability reference of the explanation and of the parameter in percent, "-" without one.
-    std::string expected() const { return meanPercent(expected_right, referenced); }
-    std::string expectedParameter() const { return meanPercent(expected_parameter, parameter_referenced); }
-    static std::string meanPercent(double sum, int count) {
-      if (count == 0) return "-";
-      std::ostringstream s;
-      s << std::fixed << std::setprecision(1) << 100.0 * sum / count << "%";
-      return s.str();
+    ++n;
+    right += o.right;
+    named += o.named;
+    sensor_scored += o.sensor_scored;
+    false_sensor += o.false_sensor;
+    pscored += o.parameter_scored;
+    pok += o.parameter_ok;
+    pok_relative += o.parameter_ok_relative;
+    all_met += o.all_met;
+    pestimated += o.parameter_estimated;
+    pcovered += o.parameter_covered;
+    iscored += o.improved_scored;
+    iok += o.improved;
+    escored += o.empirical_scored;
+    eok += o.empirical_ok;
+    referenced += o.information;
+    reference_errors += !o.reference_error.empty();
+    if (o.information) expected_right += o.reference.expected_right;
+    if (std::isfinite(o.reference_parameter_ok)) {
+      ++parameter_referenced;
+      expected_parameter += o.reference_parameter_ok;
     }
-  };
+  }
+  /// Mean detectability reference of the explanation and of the parameter in percent, "-" without one.
+  std::string expected() const { return meanPercent(expected_right, referenced); }
+  std::string expectedParameter() const { return meanPercent(expected_parameter, parameter_referenced); }
+  static std::string meanPercent(double sum, int count) {
+    if (count == 0) return "-";
+    std::ostringstream s;
+    s << std::fixed << std::setprecision(1) << 100.0 * sum / count << "%";
+    return s.str();
+  }
+};
+
+/// The totals of one wear-noise level: the hidden effects and the no-effect controls, with intervals.
+std::string totalsParagraph(double noise, const Tally& effects, const Tally& controls, bool information) {
+  std::ostringstream s;
+  s << "\nAt wear RSD " << noise * 100 << "%: right explanation " << pctWithInterval(effects.right, effects.n)
+    << ", parameter within 25% " << pctWithInterval(effects.pok, effects.pscored)
+    << " (when selected, truth within 2 standard errors " << pctWithInterval(effects.pcovered, effects.pestimated)
+    << "), held-out RMSER improved " << pctWithInterval(effects.iok, effects.iscored) << "; controls `none` "
+    << pctWithInterval(controls.right, controls.n) << ". Parameter within 25% of its own value (|estimate - "
+    << "truth| <= 0.25 |truth|) " << pctWithInterval(effects.pok_relative, effects.pscored)
+    << "; right, parameter and improved in the same case " << pctWithInterval(effects.all_met, effects.n)
+    << ". The hidden term named as the explanation or as a close alternative "
+    << pctWithInterval(effects.named, effects.n) << ". A sensor term named where the hidden effect does not "
+    << "touch the side force (controls, wear-only effects) "
+    << pctWithInterval(effects.false_sensor + controls.false_sensor, effects.sensor_scored + controls.sensor_scored)
+    << ".\n";
+  if (effects.escored > 0)
+    s << "Out of library (the library lacks the hidden mechanism): the right covariate with an empirical term that "
+         "lowers the held-out RMSER "
+      << pctWithInterval(effects.eok, effects.escored) << ".\n";
+  if (information)
+    s << "Detectability reference (a selector that knows the noise levels, detectability.h): expected right "
+         "explanation "
+      << effects.expected() << " of the hidden effects, parameter within 25% " << effects.expectedParameter()
+      << ", `none` " << controls.expected() << " of the controls"
+      << (effects.reference_errors + controls.reference_errors > 0
+              ? "; " + std::to_string(effects.reference_errors + controls.reference_errors) +
+                    " case(s) without a reference, see the progress log"
+              : "")
+      << ".\n";
+  return s.str();
+}
+
+/// The drive cases' cells and diagnosis wall times (median, range); empty without drive cases.
+std::string driveCasesLine(const std::vector<HarnessOutcome>& outcomes) {
+  std::ostringstream s;
+  std::vector<double> cells, diagnosis_s;
+  for (const HarnessOutcome& o : outcomes)
+    if (o.error.empty() && o.c.spec.design == "drives") {
+      cells.push_back(static_cast<double>(o.cells));
+      diagnosis_s.push_back(o.diagnosis_seconds);
+    }
+  if (!cells.empty()) {
+    auto median = [](std::vector<double> v) {
+      std::sort(v.begin(), v.end());
+      return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+    };
+    s << "\nDrive cases: " << std::fixed << std::setprecision(0) << *std::min_element(cells.begin(), cells.end()) << "-"
+      << *std::max_element(cells.begin(), cells.end()) << " cells (median " << median(cells)
+      << "), diagnosis wall time median " << std::setprecision(1) << median(diagnosis_s) << " s (max "
+      << *std::max_element(diagnosis_s.begin(), diagnosis_s.end()) << " s) per case.\n";
+  }
+  return s.str();
+}
+
+}  // namespace
+
+std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
   const bool information =
       std::any_of(outcomes.begin(), outcomes.end(), [](const HarnessOutcome& o) { return o.information; });
   // A reference cell (or nothing, without references).
@@ -384,55 +452,11 @@ std::string harnessTable(const std::vector<HarnessOutcome>& outcomes) {
     for (const auto& [key, t] : per_effect) {
       if (key.first != e) continue;
       s << "| " << e << " | " << key.second * 100 << "% | " << t.n + t.errors << " | " << pct(t.right, t.n) << " |"
-        << referenceCell(t.expected()) << " " << pct(t.pok, t.pscored) << " |"
-        << referenceCell(t.expectedParameter()) << " " << pct(t.pcovered, t.pestimated) << " | "
-        << pct(t.iok, t.iscored) << " |\n";
+        << referenceCell(t.expected()) << " " << pct(t.pok, t.pscored) << " |" << referenceCell(t.expectedParameter())
+        << " " << pct(t.pcovered, t.pestimated) << " | " << pct(t.iok, t.iscored) << " |\n";
     }
-  for (const auto& [noise, total] : totals) {
-    const auto& [effects, controls] = total;
-    s << "\nAt wear RSD " << noise * 100 << "%: right explanation " << pctWithInterval(effects.right, effects.n)
-      << ", parameter within 25% " << pctWithInterval(effects.pok, effects.pscored)
-      << " (when selected, truth within 2 standard errors " << pctWithInterval(effects.pcovered, effects.pestimated)
-      << "), held-out RMSER improved " << pctWithInterval(effects.iok, effects.iscored) << "; controls `none` "
-      << pctWithInterval(controls.right, controls.n) << ". Parameter within 25% of its own value (|estimate - "
-      << "truth| <= 0.25 |truth|) " << pctWithInterval(effects.pok_relative, effects.pscored)
-      << "; right, parameter and improved in the same case " << pctWithInterval(effects.all_met, effects.n)
-      << ". The hidden term named as the explanation or as a close alternative "
-      << pctWithInterval(effects.named, effects.n) << ". A sensor term named where the hidden effect does not "
-      << "touch the side force (controls, wear-only effects) "
-      << pctWithInterval(effects.false_sensor + controls.false_sensor, effects.sensor_scored + controls.sensor_scored)
-      << ".\n";
-    if (effects.escored > 0)
-      s << "Out of library (the library lacks the hidden mechanism): the right covariate with an empirical term that "
-           "lowers the held-out RMSER "
-        << pctWithInterval(effects.eok, effects.escored) << ".\n";
-    if (information)
-      s << "Detectability reference (a selector that knows the noise levels, detectability.h): expected right "
-           "explanation "
-        << effects.expected() << " of the hidden effects, parameter within 25% " << effects.expectedParameter()
-        << ", `none` " << controls.expected() << " of the controls"
-        << (effects.reference_errors + controls.reference_errors > 0
-                ? "; " + std::to_string(effects.reference_errors + controls.reference_errors) +
-                      " case(s) without a reference, see the progress log"
-                : "")
-        << ".\n";
-  }
-  std::vector<double> cells, diagnosis_s;
-  for (const HarnessOutcome& o : outcomes)
-    if (o.error.empty() && o.c.spec.design == "drives") {
-      cells.push_back(static_cast<double>(o.cells));
-      diagnosis_s.push_back(o.diagnosis_seconds);
-    }
-  if (!cells.empty()) {
-    auto median = [](std::vector<double> v) {
-      std::sort(v.begin(), v.end());
-      return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-    };
-    s << "\nDrive cases: " << std::fixed << std::setprecision(0) << *std::min_element(cells.begin(), cells.end())
-      << "-" << *std::max_element(cells.begin(), cells.end()) << " cells (median " << median(cells)
-      << "), diagnosis wall time median " << std::setprecision(1) << median(diagnosis_s) << " s (max "
-      << *std::max_element(diagnosis_s.begin(), diagnosis_s.end()) << " s) per case.\n";
-  }
+  for (const auto& [noise, total] : totals) s << totalsParagraph(noise, total.first, total.second, information);
+  s << driveCasesLine(outcomes);
   return s.str();
 }
 
@@ -454,8 +478,8 @@ std::string harnessCsv(const std::vector<HarnessOutcome>& outcomes) {
       << (o.improved_scored ? std::to_string(o.improved) : "") << "," << o.cv_before[0] << "," << o.cv_before[1] << ","
       << o.cv_after[0] << "," << o.cv_after[1] << "," << referenceCsv(o) << "," << o.preset << ","
       << (o.sensor_scored ? std::to_string(o.false_sensor) : "") << "," << o.seconds << ",\"" << o.error << "\","
-      << o.empirical_covariate << "," << (o.empirical_scored ? std::to_string(o.empirical_ok) : "") << ","
-      << o.cells << "," << o.diagnosis_seconds << "\n";
+      << o.empirical_covariate << "," << (o.empirical_scored ? std::to_string(o.empirical_ok) : "") << "," << o.cells
+      << "," << o.diagnosis_seconds << "\n";
   return s.str();
 }
 

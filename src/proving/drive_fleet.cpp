@@ -1,4 +1,4 @@
-#include "tread_wear/diagnosis/conceal_drives.h"
+#include "tread_wear/proving/drive_fleet.h"
 
 #include <algorithm>
 #include <cmath>
@@ -34,7 +34,7 @@ SpeedProfile scaledProfile(const SpeedProfile& p, double scale) {
 
 }  // namespace
 
-PointCellParams coarseDriveCells() {
+PointCellParams fleetCells() {
   PointCellParams p;
   p.load = {100.0, 0.7};
   p.slip_angle = {1e-3, 2.5};
