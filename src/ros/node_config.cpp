@@ -55,15 +55,19 @@ std::vector<geometry_msgs::TransformStamped> wheelFrameTransforms(const NodeConf
   return transforms;
 }
 
-bool loadNodeConfig(const ros::NodeHandle& pnh, NodeConfig* config, std::string* error) {
+ConfigValue privateNamespaceTree(const ros::NodeHandle& pnh) {
   XmlRpc::XmlRpcValue namespace_tree;
-  // An empty private namespace is no map at all: then every key is absent (and `wheels` is reported missing).
   ConfigValue document;
   document.type = ConfigValue::Type::kMap;
   if (pnh.getParam(pnh.getNamespace(), namespace_tree) &&
       namespace_tree.getType() == XmlRpc::XmlRpcValue::TypeStruct)
     document = parameterTree(namespace_tree);
-  return readNodeConfig(document, "", config, error);
+  return document;
+}
+
+bool loadNodeConfig(const ros::NodeHandle& pnh, NodeConfig* config, std::string* error) {
+  // An empty namespace reports `wheels` missing.
+  return readNodeConfig(privateNamespaceTree(pnh), "", config, error);
 }
 
 }  // namespace tread_wear

@@ -19,6 +19,10 @@ namespace tread_wear {
 /// without a counterpart, date or binary, becomes its XML text, a string that no numeric key accepts).
 ConfigValue parameterTree(XmlRpc::XmlRpcValue& value);
 
+/// A private NodeHandle's namespace as a tree; an empty namespace (no map on the server) is an empty map, so that
+/// every key reads as absent.
+ConfigValue privateNamespaceTree(const ros::NodeHandle& pnh);
+
 /// Reads the configuration from a private NodeHandle's namespace; false with *error naming the key on a bad or
 /// missing value. Relative tire_params start at the working directory unless config_dir is set.
 bool loadNodeConfig(const ros::NodeHandle& pnh, NodeConfig* config, std::string* error);
