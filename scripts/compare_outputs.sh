@@ -60,7 +60,7 @@ run_all() {
 
   step "2. tread_wear_eval: every preset x every tire file"
   # Operating grids (ISO axes): the rig's for the Grosch wheel files (docs/table3.md: 1-3 m/s, 5-15 deg,
-  # 50-150 N, R = 60 mm) and a road's for the passenger tire (docs/drive.md). The tread temperature cycles through
+  # 50-150 N, R = 60 mm) and a road's for the road tires (passenger, SUV; docs/drive.md). The tread temperature cycles through
   # unknown, 25 and 90 degC; it acts only with temperature_enabled (eval/tires/grosch_wheel_thermal.yaml).
   grid() {  # grid SPEEDS SLIP_ANGLES SLIP_RATIOS PATH_RADII LOADS
     local i=0 temps=("" 25 90) v a k r f
@@ -83,7 +83,7 @@ run_all() {
   local tire name grid preset conditions
   for tire in config/tires/*.yaml "${out}/eval/tires/grosch_wheel_thermal.yaml"; do
     name="$(basename "${tire}" .yaml)"
-    case "${name}" in passenger*) grid=road ;; *) grid=rig ;; esac
+    case "${name}" in passenger* | suv*) grid=road ;; *) grid=rig ;; esac
     for preset in fast standard fine reference; do
       conditions="${out}/eval/conditions_${grid}.csv"
       [[ ${preset} == reference ]] && conditions="${out}/eval/conditions_${grid}_reference.csv"

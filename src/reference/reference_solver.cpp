@@ -375,13 +375,13 @@ struct ReferenceBrushSolver::Workspace {
       throw std::runtime_error("ReferenceBrushSolver: more than max_events_per_strip mode switches on strip y = " +
                                std::to_string(y_m) + " m");
     if (mode == Mode::kStick) {
-      // At free rolling the stick stress is exactly zero and the static disc shrinks to that point
-      // at the trailing edge: the root is a touch with no direction to slip in, not a switch.
+      // At free rolling the stick stress is exactly zero, and where the pressure vanishes (the trailing edge, or a
+      // light load's unloaded edge strips) so does the static disc: the root is a touch with no direction to slip
+      // in, not a switch. The element stays in stick; the restart lets CVODE set aside a root function that stays
+      // zero (continuing would stop with "root found at and very near t").
       const Local l = local(t, N_VGetArrayPointer(y));
-      if (std::hypot(l.tx, l.ty) > 0.0) {
-        enterSlideFromRest(l, t);
-        restart(t, steps);
-      }
+      if (std::hypot(l.tx, l.ty) > 0.0) enterSlideFromRest(l, t);
+      restart(t, steps);
     } else {
       setFast(false, t);
       enterStick(t);

@@ -6,7 +6,10 @@
 #include <stdexcept>
 #include <string>
 
+#include "tread_wear/io/params_io.h"
+#include "tread_wear/model/adhesion_wear.h"
 #include "tread_wear/model/brush_wear_model.h"
+#include "tread_wear/model/contact_patch.h"
 #include "tread_wear/model/friction.h"
 #include "tread_wear/model/wear_model.h"
 #include "tread_wear/reference/reference_solver.h"
@@ -86,6 +89,37 @@ TEST(ReferenceSolver, FreeRollingGivesNoForceAndOnlyTheNonSlidingWear) {
         EXPECT_DOUBLE_EQ(result->stick_fraction, 1.0) << where;
       }
     }
+  }
+}
+
+// Free rolling where the pressure vanishes on part of a strip: at a light load the SUV file's short footprint with
+// its pressure centre ahead of the contact centre (x_e = 3.16 mm against a = 5.9 mm at 50 N) leaves stretches of
+// the edge strips unloaded, where the static disc and the zero stick stress coincide over an interval. The
+// reference once stopped there ("root found at and very near t"). Exact answer as above: no force or moment, the
+// whole patch in exact stick, and no sliding wear (w4 = 0): only the adhesion zone's free-rolling tread-band shear
+// (model/adhesion_wear.h, closed form over the patch, tested on its own in test_adhesion_wear).
+TEST(ReferenceSolver, FreeRollingOnAPartlyUnloadedStripStaysInStick) {
+  const TireParams params = loadTireParams(std::string(TREAD_WEAR_SOURCE_DIR) + "/config/tires/suv_225_60_r18.yaml");
+  ASSERT_EQ(params.wear.w4_kg_per_s_m2, 0.0);
+  ReferenceBrushSolver reference(params, ReferenceSolverOptions());
+  for (double speed_mps : {0.05, 1.0, 3.0}) {
+    OperatingPoint op;
+    op.load_n = 50.0;
+    op.speed_mps = speed_mps;
+    WearResult r;
+    ASSERT_NO_THROW(reference.evaluate(op, &r)) << "V " << speed_mps;
+    EXPECT_EQ(r.fx_n, 0.0) << "V " << speed_mps;
+    EXPECT_EQ(r.fy_n, 0.0) << "V " << speed_mps;
+    EXPECT_EQ(r.mz_nm, 0.0) << "V " << speed_mps;
+    EXPECT_DOUBLE_EQ(r.exact_stick_fraction, 1.0) << "V " << speed_mps;
+    EXPECT_DOUBLE_EQ(r.stick_fraction, 1.0) << "V " << speed_mps;
+    const ContactPatch patch(params.footprint, op.load_n);
+    const double adhesion_kg_per_m =
+        AdhesionWear(params)
+            .evaluate(op, patch, op.tipKinematics(TurnSlipOrientation::kLiteral), op.rollingSpeed())
+            .wear_kg_per_m;
+    ASSERT_GT(adhesion_kg_per_m, 0.0);
+    EXPECT_NEAR(r.wear_rate_kg_per_m / adhesion_kg_per_m, 1.0, 1e-12) << "V " << speed_mps;
   }
 }
 
