@@ -1,8 +1,13 @@
 # A GoogleTest binary over the given libraries, registered with ctest by catkin and built by default (build + ctest
-# suffice), run from the source tree, which it knows as TREAD_WEAR_SOURCE_DIR.
+# suffice), run from the source tree, which it knows as TREAD_WEAR_SOURCE_DIR. Each test binary gets its own
+# temporary directory (TEST_TMPDIR, which ::testing::TempDir() returns) in the build tree, so that tests running at
+# once (ctest -j, or two checkouts on one machine) never write the same file.
 #catkin_lint: ignore_once literal_project_name
 function(tread_wear_add_gtest name source)
   catkin_add_gtest(${name} ${source} WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+  set(tmp_dir ${CMAKE_CURRENT_BINARY_DIR}/test_tmp/${name})
+  file(MAKE_DIRECTORY ${tmp_dir})
+  set_tests_properties(_ctest_${PROJECT_NAME}_gtest_${name} PROPERTIES ENVIRONMENT "TEST_TMPDIR=${tmp_dir}")
   target_link_libraries(${name} ${ARGN} GTest::gtest_main)
   target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR}/test)
   target_compile_definitions(${name} PRIVATE TREAD_WEAR_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
