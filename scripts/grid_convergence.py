@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Grid convergence of the brush wear model for one tire file over a drive's operating envelope (docs/drive.md).
+"""Grid convergence of the brush wear model for one tire file over a drive's operating envelope (docs/passenger_tire.md).
 
 Evaluates the envelope (loads, slip angles, slip ratios, speeds; straight and a 12 m junction turn) with
 tread_wear_eval at the fast and standard presets and at a sequence of marcher grids (--grid NXxNS), and prints

@@ -4,7 +4,7 @@
 Reads every STRIDE-th input sample of each wheel of a drive bag (tread_wear_drive), evaluates the operating points
 with tread_wear_eval at the fast and standard presets and at marcher grids (--grid NXxNS), and prints per grid the
 mg/km per wheel and their mean: sum(W_r V) / sum(V) over the samples (equal time steps). The replay integrates
-the same model in time; this check only compares grids on identical points (docs/drive.md, "Grid convergence").
+the same model in time; this check only compares grids on identical points (docs/passenger_tire.md, "Grid convergence").
 
 Usage: scripts/wltc_grid_check.py DRIVE.bag [--params TIRE.yaml] [--stride 50] [--grids 400x16,1600x32,6400x32]
   (bin dir: TREAD_WEAR_BIN, default _build/devel/lib/tread_wear; needs python3-rosbag and the built messages)

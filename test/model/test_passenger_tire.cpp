@@ -2,7 +2,7 @@
 // steady sliding is stable (the damping exceeds the friction law's velocity weakening at the peak pressure), and
 // the marcher's W_r converges under x-grid refinement at the worst condition of the old, ill-posed file
 // (Fz 6 kN, alpha 0, kappa -0.2, V 0.5 m/s). The same checks fail for that old file (friction v_m 70.09 mm/s of
-// the rig's carborundum disc), so they detect an ill-posed tire file. Background: docs/drive.md, "Grid convergence".
+// the rig's carborundum disc), so they detect an ill-posed tire file. Background: docs/passenger_tire.md, "Grid convergence".
 #include <gtest/gtest.h>
 
 #include <algorithm>
