@@ -246,17 +246,21 @@ bool VehicleInputsNode::initialize() {
   }
 
   tf_listener_ = std::make_unique<tf2_ros::TransformListener>(tf_buffer_, nh_);
+  // In input time (a bag played faster than it was recorded) every output counts: roscpp drops the oldest message of
+  // a subscriber's outgoing queue once it holds more than the advertised size, so the queues are as deep as the
+  // inputs'.
+  const std::uint32_t out_queue = config_.input_time ? 10000 : 10;
   for (int i = 0; i < kWheelCount; ++i) {
     const std::string prefix = "wheels/" + config_.wheel_names[i] + "/";
     VehicleInputPublishers& p = publishers_[i];
     p.load = std::make_unique<RealtimePublisher<tread_wear::WheelLoad>>(
-        nh_.advertise<tread_wear::WheelLoad>(prefix + "load", 10));
+        nh_.advertise<tread_wear::WheelLoad>(prefix + "load", out_queue));
     p.slip = std::make_unique<RealtimePublisher<tread_wear::WheelSlip>>(
-        nh_.advertise<tread_wear::WheelSlip>(prefix + "slip", 10));
+        nh_.advertise<tread_wear::WheelSlip>(prefix + "slip", out_queue));
     p.speed = std::make_unique<RealtimePublisher<tread_wear::WheelSpeed>>(
-        nh_.advertise<tread_wear::WheelSpeed>(prefix + "speed", 10));
+        nh_.advertise<tread_wear::WheelSpeed>(prefix + "speed", out_queue));
     p.quality = std::make_unique<RealtimePublisher<tread_wear::WheelInputQuality>>(
-        nh_.advertise<tread_wear::WheelInputQuality>(prefix + "input_quality", 10));
+        nh_.advertise<tread_wear::WheelInputQuality>(prefix + "input_quality", out_queue));
     // Preallocated: frame ids and the wheel name are set once, the cycle writes numbers only.
     p.load->msg().header.frame_id = config_.base_frame;
     p.slip->msg().header.frame_id = config_.base_frame;
