@@ -68,6 +68,16 @@ def run_fleet(fleet_dir, out_dir, scheduler=None, workers=2, serial=False, bin_d
     return document
 
 
+def diagnose_args(args):
+    """tread_wear_diagnose's options from the command line's --diagnosis-* options."""
+    out = ["--preset", args.diagnosis_preset]
+    if args.diagnosis_max_terms is not None:
+        out += ["--max-terms", str(args.diagnosis_max_terms)]
+    if args.diagnosis_detection_power is not None:
+        out += ["--detection-power", repr(args.diagnosis_detection_power)]
+    return out
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(prog="tread_wear_fleet", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -84,6 +94,10 @@ def main(argv=None):
                         help="also diagnose every vehicle with readings and the fleet (docs/fleet.md, Diagnosis)")
     parser.add_argument("--diagnosis-preset", choices=("auto", "fast", "standard", "fine", "reference"),
                         default="auto", help="tread_wear_diagnose --preset [default: auto]")
+    parser.add_argument("--diagnosis-max-terms", type=int, metavar="N",
+                        help="tread_wear_diagnose --max-terms [default: the tool's, 2]")
+    parser.add_argument("--diagnosis-detection-power", type=float, metavar="X",
+                        help="tread_wear_diagnose --detection-power (0: no detection limits) [default: the tool's]")
     parser.add_argument("--no-plots", action="store_true")
     parser.add_argument("--quiet", action="store_true", help="no progress")
     args = parser.parse_args(argv)
@@ -96,7 +110,7 @@ def main(argv=None):
                              serial=args.serial, bin_dir=args.bin,
                              replay_args=["--preset", args.preset] if args.preset else [],
                              plots=not args.no_plots, progress=not args.quiet,
-                             diagnose_args=["--preset", args.diagnosis_preset] if args.diagnose else None)
+                             diagnose_args=diagnose_args(args) if args.diagnose else None)
     except layout.FleetError as e:
         print(f"tread_wear_fleet: {e}", file=sys.stderr)
         return 2

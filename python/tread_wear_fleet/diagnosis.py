@@ -89,7 +89,8 @@ def reading_plan(vehicle, outcomes):
     tire = next(tire for name, tire in vehicle.wheels if name in readings)
     return {"vehicle": vehicle.vehicle_id, "tire": tire.path, "kind": vehicle.reading_kind, "readings": readings,
             "drives": drives, "topics": wheel_topics(vehicle.wheels_path), "covariates": vehicle.covariates,
-            "readings_sha256": tasks.file_sha256(source)}
+            "readings_sha256": hashlib.sha256(json.dumps(
+                {w: [(d.isoformat(), v) for d, v in r] for w, r in sorted(readings.items())}).encode()).hexdigest()}
 
 
 def _name_part(text):

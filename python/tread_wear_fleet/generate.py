@@ -10,6 +10,7 @@ the replay's own wear times --truth-scale plus a gauge error of --gauge-sigma-mm
 """
 import argparse
 import concurrent.futures
+import copy
 import csv
 import datetime
 import json
@@ -52,9 +53,9 @@ def drive_profile(speeds, start, drive_s):
     return list(enumerate(window))
 
 
-def vehicle_plan(index, rng):
+def vehicle_plan(index, rng, kinds=tuple(KINDS)):
     """Kind, style and payload of vehicle `index`."""
-    return list(KINDS)[index % len(KINDS)], STYLES[(index // len(KINDS)) % len(STYLES)], round(
+    return kinds[index % len(kinds)], STYLES[(index // len(kinds)) % len(STYLES)], round(
         rng.uniform(0.0, MAX_PAYLOAD_KG))
 
 
@@ -107,16 +108,10 @@ def concealed_losses(vehicle, dates, bin_dir, effect, magnitude, preset):
     """{(wheel, reading date): the true mass loss up to that date [kg]} with `effect` hidden: the proving module's
     truth of the vehicle's drive segments between the reading dates (tread_wear_conceal --bag on the diagnosis input
     that tread_wear_fleet --diagnose assembles, with placeholder readings that only delimit the segments)."""
-    placeholder = os.path.join(vehicle.directory, layout.READINGS_FILE)
-    with open(placeholder, "w") as f:
-        f.write("date,wheel,tread_depth_mm\n" + "".join(f"{day.isoformat()},{name},{10.0 - 0.001 * k:.3f}\n"
-                                                      for name, _ in vehicle.wheels for k, day in enumerate(dates)))
-    try:
-        vehicle = layout.read_vehicle(vehicle.directory)
-        outcomes = {bag: {"result": {}} for _, bag in vehicle.bags}
-        plan = diagnosis.reading_plan(vehicle, outcomes)
-    finally:
-        os.remove(placeholder)
+    vehicle = copy.copy(vehicle)
+    vehicle.readings = [(day, name, 10.0 - 0.001 * k) for name, _ in vehicle.wheels for k, day in enumerate(dates)]
+    vehicle.reading_kind = "tread_depth_mm"
+    plan = diagnosis.reading_plan(vehicle, {bag: {"result": {}} for _, bag in vehicle.bags})
     with tempfile.TemporaryDirectory(dir=vehicle.directory) as scratch:
         bag = diagnosis.assemble_bag(os.path.join(scratch, "input.bag"), [(plan, "", {})])
         segments = os.path.join(scratch, "segments.csv")
@@ -159,7 +154,7 @@ def write_readings(vehicle, cumulative_loss_kg, dates, truth_scale, sigma_mm, rn
 
 def generate(out_dir, share_dir, bin_dir, vehicles=8, days=2, drives_per_day=1, drive_s=60, rate_hz=10.0, seed=1,
              start_date=datetime.date(2026, 1, 5), readings_every_days=1, truth_scale=1.0, gauge_sigma_mm=0.002,
-             jobs=1, readings=True, conceal=None):
+             jobs=1, readings=True, conceal=None, kinds=tuple(KINDS)):
     """Writes the fleet; returns its truth (vehicle plans and settings) as also written to FLEET_DIR/truth.json.
     conceal: (effect, magnitude or None, generator preset) to write the readings from the model's wear with a hidden
     library effect instead of the replay's."""
@@ -169,7 +164,7 @@ def generate(out_dir, share_dir, bin_dir, vehicles=8, days=2, drives_per_day=1, 
     truth = {"seed": seed, "truth_scale": truth_scale, "gauge_sigma_mm": gauge_sigma_mm, "vehicles": {}}
     drives = []
     for i in range(vehicles):
-        kind, style, payload_kg = vehicle_plan(i, rng)
+        kind, style, payload_kg = vehicle_plan(i, rng, kinds)
         vehicle_id = f"v{i:03d}"
         directory = os.path.join(out_dir, vehicle_id)
         mass_kg = write_vehicle(directory, share_dir, kind, style, payload_kg)
@@ -228,6 +223,8 @@ def main(argv=None):
     parser.add_argument("--readings-every-days", type=int, default=1)
     parser.add_argument("--truth-scale", type=float, default=1.0, help="true wear / replayed wear in the readings")
     parser.add_argument("--gauge-sigma-mm", type=float, default=0.002, help="gauge error of a reading [mm]")
+    parser.add_argument("--kinds", default=",".join(KINDS),
+                        help=f"the vehicles' kinds in turn [default: {','.join(KINDS)}]")
     parser.add_argument("--no-readings", action="store_true")
     parser.add_argument("--conceal", metavar="EFFECT",
                         help="readings from the model's wear with this library effect hidden (tread_wear_conceal "
@@ -249,6 +246,9 @@ def main(argv=None):
     share = args.share or os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
     if not os.path.isfile(os.path.join(share, "data", "wltc_class3b.csv")):
         parser.error(f"{share}: not the package's source tree (no data/wltc_class3b.csv): pass --share")
+    kinds = tuple(args.kinds.split(","))
+    if not kinds or any(k not in KINDS for k in kinds):
+        parser.error(f"--kinds: a comma-separated list of {', '.join(KINDS)}")
     if args.conceal and args.no_readings:
         parser.error("--conceal hides an effect in the readings: it does not go with --no-readings")
     if args.magnitude is not None and not args.conceal:
@@ -261,7 +261,8 @@ def main(argv=None):
                          args.rate_hz, args.seed, readings_every_days=args.readings_every_days,
                          truth_scale=args.truth_scale, gauge_sigma_mm=args.gauge_sigma_mm, jobs=args.jobs,
                          readings=not args.no_readings,
-                         conceal=(args.conceal, args.magnitude, args.generator_preset) if args.conceal else None)
+                         conceal=(args.conceal, args.magnitude, args.generator_preset) if args.conceal else None,
+                         kinds=kinds)
     except (layout.FleetError, RuntimeError, subprocess.CalledProcessError) as e:
         print(f"tread_wear_fleet_generate: {e}", file=sys.stderr)
         return 2
