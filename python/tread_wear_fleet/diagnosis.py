@@ -275,7 +275,10 @@ def plan_jobs(vehicles, outcomes, bin_dir, diagnose_args):
     for members in pools.values():
         tire = members[0][1]["tire"]
         name = "fleet" if len(pools) == 1 else "fleet_" + os.path.splitext(os.path.basename(tire))[0]
-        blocks = [(plan, pool_prefix(v.vehicle_id), dict(v.covariates, vehicle=v.vehicle_id)) for v, plan in members]
+        # Every block sets every covariate of the pool (a covariate message holds until the next one of its name).
+        names = {name for v, _ in members for name in v.covariates}
+        blocks = [(plan, pool_prefix(v.vehicle_id), {**{n: "unknown" for n in names}, **v.covariates,
+                                                      "vehicle": v.vehicle_id}) for v, plan in members]
         jobs.append({"name": name, "scope": "fleet", "tire": tire, "blocks": blocks,
                      "cv_groups": "vehicle" if len(members) >= 2 else None,
                      "prefixes": {v.vehicle_id: pool_prefix(v.vehicle_id) for v, _ in members}})
