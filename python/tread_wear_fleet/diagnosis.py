@@ -40,7 +40,8 @@ def wheel_topics(wheels_path):
 
     with open(wheels_path) as f:
         wheels = yaml.safe_load(f)["wheels"]
-    keys = {"load": "load_topic", "slip": "slip_topic", "speed": "speed_topic", "tread_temperature": "temperature_topic"}
+    keys = {"load": "load_topic", "slip": "slip_topic", "speed": "speed_topic",
+            "tread_temperature": "temperature_topic"}
     return {str(w["name"]): {kind: str(w.get(keys[kind], f"wheels/{w['name']}/{kind}")).lstrip("/")
                              for kind in INPUT_KINDS} for w in wheels}
 
