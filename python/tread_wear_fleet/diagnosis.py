@@ -17,7 +17,6 @@ import math
 import os
 import re
 import shutil
-import subprocess
 import tempfile
 
 from . import tasks
@@ -215,12 +214,6 @@ def deviations(residuals, prefixes):
     return out
 
 
-def _tool_reason(stderr, returncode):
-    lines = [line for line in stderr.strip().splitlines() if line.strip() and "warning" not in line]
-    reason = lines[-1] if lines else f"{DIAGNOSE_TOOL} exited with status {returncode}"
-    return reason.split(f"{DIAGNOSE_TOOL}: ", 1)[-1]
-
-
 def diagnose_job(job, bin_dir, cache_dir, report_dir, diagnose_args):
     """Runs one diagnosis (or takes its cached result): assembles the bag, runs tread_wear_diagnose with one thread,
     keeps its report (diagnosis.json, report.md, residuals.csv) in report_dir. Returns {name, cached, result | error,
@@ -237,14 +230,10 @@ def diagnose_job(job, bin_dir, cache_dir, report_dir, diagnose_args):
                    "--no-plots", "--quiet", "--jobs", "1"] + list(diagnose_args)
         if job["cv_groups"]:
             command += ["--cv-groups", job["cv_groups"]]
-        before = os.times()
-        run = subprocess.run(command, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                             text=True, check=False)
-        after = os.times()
-        cpu_s = (after.children_user + after.children_system) - (before.children_user + before.children_system)
+        run, cpu_s = tasks.run_tool(command)
         if run.returncode != 0:
-            return {"name": job["name"], "cached": False, "error": _tool_reason(run.stderr, run.returncode),
-                    "cpu_s": cpu_s}
+            return {"name": job["name"], "cached": False,
+                    "error": tasks.tool_reason(run.stderr, run.returncode, DIAGNOSE_TOOL), "cpu_s": cpu_s}
         with open(os.path.join(report, "diagnosis.json")) as f:
             result = verdict(json.load(f))
         if job["prefixes"]:
