@@ -56,6 +56,11 @@ add_test(NAME fleet_reductions COMMAND ${PYTHON_EXECUTABLE} ${PROJECT_SOURCE_DIR
 add_test(NAME fleet_distributed COMMAND ${PYTHON_EXECUTABLE} ${PROJECT_SOURCE_DIR}/test/fleet/test_fleet_distributed.py)
 set_tests_properties(fleet_distributed PROPERTIES TIMEOUT 180
                      ENVIRONMENT "TREAD_WEAR_BIN=$<TARGET_FILE_DIR:${PROJECT_NAME}_replay>")
+# The diagnosis from workshop readings on a tiny fleet: assembled bags, one diagnosis per vehicle and one pooled,
+# skipped vehicles, the cache (needs the drive, replay, conceal and diagnose tools).
+add_test(NAME fleet_diagnosis COMMAND ${PYTHON_EXECUTABLE} ${PROJECT_SOURCE_DIR}/test/fleet/test_fleet_diagnosis.py)
+set_tests_properties(fleet_diagnosis PROPERTIES TIMEOUT 180
+                     ENVIRONMENT "TREAD_WEAR_BIN=$<TARGET_FILE_DIR:${PROJECT_NAME}_replay>")
 
 # Structure checks, part of the test command so that CI and the README run them with everything else:
 #  - architecture: the code follows the module map of docs/architecture.md (scripts/check_architecture.py);

@@ -1,6 +1,6 @@
 # Offline command-line tools: src/tools/<name>_main.cpp -> tread_wear_<name>, mains of a few lines over the cli
-# module; the rosbag tools (drive, replay, vehicle_inputs) and tread_wear_diagnose's --bag also link the ros/bag
-# module.
+# module; the rosbag tools (drive, replay, vehicle_inputs) and the --bag of tread_wear_diagnose and tread_wear_conceal
+# also link the ros/bag module.
 file(GLOB TREAD_WEAR_TOOL_MAINS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/tools/*_main.cpp)
 foreach(main ${TREAD_WEAR_TOOL_MAINS})
   get_filename_component(name ${main} NAME_WE)
@@ -9,7 +9,7 @@ foreach(main ${TREAD_WEAR_TOOL_MAINS})
   target_link_libraries(${PROJECT_NAME}_${name} ${PROJECT_NAME}_cli)
   install(TARGETS ${PROJECT_NAME}_${name} RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 endforeach()
-foreach(tool drive replay diagnose vehicle_inputs)
+foreach(tool drive replay diagnose conceal vehicle_inputs)
   target_link_libraries(${PROJECT_NAME}_${tool} ${PROJECT_NAME}_ros_bag)
 endforeach()
 target_compile_definitions(${PROJECT_NAME}_diagnose PRIVATE

@@ -1,19 +1,21 @@
 """tread_wear_fleet: replay every drive bag of a fleet on Dask distributed, then reduce per vehicle and fleet-wide.
 
-  tread_wear_fleet FLEET_DIR --out DIR [--scheduler ADDRESS] [--workers N]
+  tread_wear_fleet FLEET_DIR --out DIR [--scheduler ADDRESS] [--workers N] [--diagnose [--diagnosis-preset P]]
 
 Without --scheduler it starts a local cluster of N workers in this process (each task runs the replay as its own
 process, so they run in parallel); with --scheduler it uses the running cluster at ADDRESS (tcp://host:8786), whose
 workers must see FLEET_DIR, DIR and the package's binaries at the same paths (docs/fleet.md). Outputs in DIR:
-bags.csv, daily.csv, wheels.csv, failures.csv, fleet.json and the plots; the per-bag cache in DIR/cache.
-Exit status 0, 1 when a bag failed (the rest is complete), 2 on bad usage or layout.
+bags.csv, daily.csv, wheels.csv, failures.csv, fleet.json and the plots; the per-bag cache in DIR/cache. With
+--diagnose also each vehicle's and the fleet's diagnosis from the workshop readings (tread_wear_diagnose, one task
+each): diagnosis.csv, fleet.json's `diagnosis`, the reports in DIR/diagnosis/<name>/.
+Exit status 0, 1 when a bag or a diagnosis failed (the rest is complete), 2 on bad usage or layout.
 """
 import argparse
 import os
 import shutil
 import sys
 
-from . import engine, layout, outputs, reductions, tasks
+from . import diagnosis, engine, layout, outputs, reductions, tasks
 
 
 def find_bin_dir(explicit=None, tool=tasks.REPLAY_TOOL):
@@ -44,7 +46,7 @@ def build_jobs(vehicles, bin_dir, replay_args):
 
 
 def run_fleet(fleet_dir, out_dir, scheduler=None, workers=2, serial=False, bin_dir=None, replay_args=(),
-              plots=True, progress=True):
+              plots=True, progress=True, diagnose_args=None):
     """Runs the whole fleet; returns the fleet document (reductions.fleet_reduction)."""
     vehicles = layout.read_fleet(fleet_dir)
     bin_dir = find_bin_dir(bin_dir)
@@ -54,10 +56,26 @@ def run_fleet(fleet_dir, out_dir, scheduler=None, workers=2, serial=False, bin_d
     outcomes, counts = engine.run_jobs(jobs, bin_dir, cache_dir, scheduler=scheduler, workers=workers, serial=serial,
                                        progress=progress)
     document = reductions.fleet_reduction(vehicles, outcomes, counts)
+    if diagnose_args is not None:
+        if not os.access(os.path.join(bin_dir, diagnosis.DIAGNOSE_TOOL), os.X_OK):
+            raise layout.FleetError(f"{bin_dir}: no executable {diagnosis.DIAGNOSE_TOOL} (needed by --diagnose)")
+        document["diagnosis"] = diagnosis.run_diagnoses(vehicles, outcomes, out_dir, bin_dir, scheduler=scheduler,
+                                                        workers=workers, serial=serial, diagnose_args=diagnose_args,
+                                                        progress=progress)
     outputs.write_tables(out_dir, document, vehicles, outcomes, os.path.abspath(fleet_dir))
     if plots:
         outputs.write_plots(out_dir, document)
     return document
+
+
+def diagnose_args(args):
+    """tread_wear_diagnose's options from the command line's --diagnosis-* options."""
+    out = ["--preset", args.diagnosis_preset]
+    if args.diagnosis_max_terms is not None:
+        out += ["--max-terms", str(args.diagnosis_max_terms)]
+    if args.diagnosis_detection_power is not None:
+        out += ["--detection-power", repr(args.diagnosis_detection_power)]
+    return out
 
 
 def main(argv=None):
@@ -72,6 +90,14 @@ def main(argv=None):
     parser.add_argument("--preset", choices=("fast", "standard", "fine", "reference"),
                         help="wear model preset instead of each vehicle's wheel configuration's")
     parser.add_argument("--bin", metavar="DIR", help="directory of tread_wear_replay [default: found, see --help]")
+    parser.add_argument("--diagnose", action="store_true",
+                        help="also diagnose every vehicle with readings and the fleet (docs/fleet.md, Diagnosis)")
+    parser.add_argument("--diagnosis-preset", choices=("auto", "fast", "standard", "fine", "reference"),
+                        default="auto", help="tread_wear_diagnose --preset [default: auto]")
+    parser.add_argument("--diagnosis-max-terms", type=int, metavar="N",
+                        help="tread_wear_diagnose --max-terms [default: the tool's, 2]")
+    parser.add_argument("--diagnosis-detection-power", type=float, metavar="X",
+                        help="tread_wear_diagnose --detection-power (0: no detection limits) [default: the tool's]")
     parser.add_argument("--no-plots", action="store_true")
     parser.add_argument("--quiet", action="store_true", help="no progress")
     args = parser.parse_args(argv)
@@ -83,7 +109,8 @@ def main(argv=None):
         document = run_fleet(args.fleet_dir, args.out, scheduler=args.scheduler, workers=args.workers,
                              serial=args.serial, bin_dir=args.bin,
                              replay_args=["--preset", args.preset] if args.preset else [],
-                             plots=not args.no_plots, progress=not args.quiet)
+                             plots=not args.no_plots, progress=not args.quiet,
+                             diagnose_args=diagnose_args(args) if args.diagnose else None)
     except layout.FleetError as e:
         print(f"tread_wear_fleet: {e}", file=sys.stderr)
         return 2
@@ -100,4 +127,16 @@ def main(argv=None):
         rate = "-" if v["mean_mg_per_km"] is None else f"{v['mean_mg_per_km']:.2f}"
         print(f"  {v['vehicle']}: {v['replayed_bags']}/{v['bags']} bags, {rate} mg/km{limit}"
               f"{'  OUTLIER' if v.get('outlier') else ''}")
-    return 1 if document["failures"] else 0
+    section = document.get("diagnosis")
+    if section:
+        for e in section["vehicles"] + section["fleet"]:
+            what = e.get("explanation") or "FAILED: " + e.get("error", "")
+            print(f"  diagnosis {e['name']} ({e.get('segments') or 0} segments): {what}"
+                  f"{' ' + diagnosis.term_values(e) if e.get('terms') else ''}")
+        for s in section["skipped"]:
+            print(f"  diagnosis {s['vehicle']}: skipped: {s['reason']}")
+        deviating = sorted(v for pool in section["fleet"] for v, d in pool.get("deviations", {}).items()
+                           if d["deviates"])
+        if deviating:
+            print(f"  deviating from the pooled model: {', '.join(deviating)}")
+    return 1 if document["failures"] or (section and section["run"]["failed"]) else 0

@@ -18,8 +18,8 @@ INDEX_FILE = "index.json"
 class Progress:
     """One line on a terminal (rewritten), or a line per tenth of the bags otherwise."""
 
-    def __init__(self, total, stream=sys.stderr, enabled=True):
-        self.total, self.stream, self.enabled = total, stream, enabled
+    def __init__(self, total, stream=sys.stderr, enabled=True, unit="bags"):
+        self.total, self.stream, self.enabled, self.unit = total, stream, enabled, unit
         self.done = self.failed = self.cached = 0
         self.start = time.monotonic()
         self.tty = enabled and stream.isatty()
@@ -33,7 +33,7 @@ class Progress:
             return
         elapsed = time.monotonic() - self.start
         eta = elapsed / self.done * (self.total - self.done)
-        line = (f"fleet {self.done}/{self.total} bags ({self.cached} cached, {self.failed} failed) "
+        line = (f"fleet {self.done}/{self.total} {self.unit} ({self.cached} cached, {self.failed} failed) "
                 f"{elapsed:.1f} s, about {eta:.0f} s left")
         if self.tty:
             self.stream.write("\r" + line + ("\n" if self.done == self.total else ""))
@@ -88,37 +88,46 @@ def _run_serial(pending, bin_dir, cache_dir, progress):
     return outcomes
 
 
-def _run_dask(pending, bin_dir, cache_dir, progress, scheduler, workers, retries):
+def map_tasks(function, named_args, scheduler, workers, retries, on_done, failed):
+    """Runs function(*args) for every (name, args) on Dask (the cluster at `scheduler`, else a local one of
+    `workers`) and calls on_done(name, outcome) as each completes; a task that fails on every try (or whose workers
+    died) gives failed(name, exception) instead of raising. Returns {name: outcome}."""
     from distributed import Client, LocalCluster, as_completed  # only when the engine is used
 
     cluster = None
     if scheduler:
         client = Client(scheduler)
     else:
-        # Workers in this process: each task's work is its own replay process, so threads run in parallel, and the
-        # cluster starts in a tenth of a second instead of seconds for worker processes.
+        # Workers in this process: each task's work is its own process (the C++ tool), so threads run in parallel,
+        # and the cluster starts in a tenth of a second instead of seconds for worker processes.
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=False, dashboard_address=None)
         client = Client(cluster)
     try:
-        futures = {}
-        for job in pending:
-            future = client.submit(tasks.replay_bag, *_task_args(job, bin_dir, cache_dir), retries=retries,
-                                   pure=False, key=f"replay-{job['vehicle']}-{os.path.basename(job['bag'])}-"
-                                                  f"{len(futures)}")
-            futures[future] = job["bag"]
+        futures = {client.submit(function, *args, retries=retries, pure=False, key=f"{name}-{n}"): name
+                   for n, (name, args) in enumerate(named_args)}
         outcomes = {}
         for future in as_completed(futures):
+            name = futures[future]
             try:
-                outcomes[futures[future]] = future.result()
+                outcomes[name] = future.result()
             except Exception as e:  # the task failed on every try (or its workers died): report, keep the rest
-                outcomes[futures[future]] = {"bag": futures[future], "cached": False,
-                                             "error": f"task failed: {type(e).__name__}: {e}"}
-            progress.update(outcomes[futures[future]])
+                outcomes[name] = failed(name, e)
+            on_done(name, outcomes[name])
         return outcomes
     finally:
         client.close()
         if cluster is not None:
             cluster.close()
+
+
+def _run_dask(pending, bin_dir, cache_dir, progress, scheduler, workers, retries):
+    bags = {f"replay-{job['vehicle']}-{os.path.basename(job['bag'])}": job["bag"] for job in pending}
+    outcomes = map_tasks(tasks.replay_bag,
+                         [(name, _task_args(job, bin_dir, cache_dir)) for name, job in zip(bags, pending)],
+                         scheduler, workers, retries, lambda name, outcome: progress.update(outcome),
+                         lambda name, e: {"bag": bags[name], "cached": False,
+                                          "error": f"task failed: {type(e).__name__}: {e}"})
+    return {bags[name]: outcome for name, outcome in outcomes.items()}
 
 
 def run_jobs(jobs, bin_dir, cache_dir, scheduler=None, workers=2, serial=False, retries=2, progress=True):

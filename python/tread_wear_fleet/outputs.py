@@ -3,6 +3,8 @@ import csv
 import json
 import os
 
+from . import diagnosis
+
 
 def _cell(value):
     if value is None:
@@ -64,6 +66,9 @@ def write_tables(out_dir, document, vehicles, outcomes, fleet_dir):
                 for v in reduced for w in v["wheels"]))
     _write_csv(os.path.join(out_dir, "failures.csv"), ["vehicle", "bag", "reason"],
                ([f["vehicle"], os.path.relpath(f["bag"], fleet_dir), f["reason"]] for f in document["failures"]))
+    if "diagnosis" in document:
+        _write_csv(os.path.join(out_dir, "diagnosis.csv"), diagnosis.DIAGNOSIS_HEADER,
+                   diagnosis.diagnosis_rows(document["diagnosis"]))
     partial = os.path.join(out_dir, "fleet.json.tmp")
     with open(partial, "w") as f:
         json.dump(document, f, indent=1, sort_keys=True)

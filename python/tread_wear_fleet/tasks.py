@@ -45,10 +45,20 @@ def _result(summary, bag_sha256):
             "update_rate_hz": summary["update_rate_hz"], "wheels": wheels}
 
 
-def _reason(stderr, returncode):
-    lines = [line for line in stderr.strip().splitlines() if line.strip()]
-    reason = lines[-1] if lines else f"{REPLAY_TOOL} exited with status {returncode}"
-    return reason.split(f"{REPLAY_TOOL}: ", 1)[-1]
+def tool_reason(stderr, returncode, tool=REPLAY_TOOL):
+    """A failed tool's reason: its last line on stderr that is not a warning, without the tool's name."""
+    lines = [line for line in stderr.strip().splitlines() if line.strip() and "warning:" not in line]
+    reason = lines[-1] if lines else f"{tool} exited with status {returncode}"
+    return reason.split(f"{tool}: ", 1)[-1]
+
+
+def run_tool(command):
+    """Runs one of the package's tools as a child process: (CompletedProcess with stderr, its CPU seconds)."""
+    before = os.times()
+    run = subprocess.run(command, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                         text=True, check=False)
+    after = os.times()
+    return run, (after.children_user + after.children_system) - (before.children_user + before.children_system)
 
 
 def replay_bag(bag_path, wheels_path, bin_dir, cache_dir, config_id, replay_args=()):
@@ -73,13 +83,10 @@ def replay_bag(bag_path, wheels_path, bin_dir, cache_dir, config_id, replay_args
         summary_path = os.path.join(scratch, "summary.json")
         command = [os.path.join(bin_dir, REPLAY_TOOL), bag_path, "--wheels", wheels_path, "--summary", summary_path,
                    "--threads", "1", "--quiet"] + list(replay_args)
-        before = os.times()
-        run = subprocess.run(command, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                             text=True, check=False)
-        after = os.times()
-        cpu_s = (after.children_user + after.children_system) - (before.children_user + before.children_system)
+        run, cpu_s = run_tool(command)
         if run.returncode != 0:
-            return {"bag": bag_path, "cached": False, "error": _reason(run.stderr, run.returncode), "cpu_s": cpu_s}
+            return {"bag": bag_path, "cached": False, "error": tool_reason(run.stderr, run.returncode),
+                    "cpu_s": cpu_s}
         with open(summary_path) as f:
             result = _result(json.load(f), bag_sha256)
         partial = os.path.join(scratch, "entry.json")

@@ -1,6 +1,8 @@
 #include "tread_wear/cli/conceal_cli.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <fstream>
 #include <optional>
 #include <stdexcept>
@@ -19,18 +21,77 @@
 namespace tread_wear {
 namespace diagnosis {
 
-int runConcealCli(int argc, const char* const argv[], std::ostream& out, std::ostream& err) {
-  const char* usage_text =
-      "usage: tread_wear_conceal --params FILE --effect NAME|none --runs OUT.csv --answer OUT.json [--magnitude X]\n"
-      "       [--design table2|small|low_slip] [--wear-noise RSD] [--force-noise N] [--seed N]\n"
-      "       [--orientation literal|flipped] [--generator-preset fast|standard|fine|reference]\n"
-      "       [--information [--preset fast|standard|fine|reference]] [--mechanisms FILE]\n"
-      "       tread_wear_conceal --list [--mechanisms FILE]\n";
+namespace {
+
+const char* const kConcealUsage =
+    "usage: tread_wear_conceal --params FILE --effect NAME|none --runs OUT.csv --answer OUT.json [--magnitude X]\n"
+    "       [--design table2|small|low_slip] [--wear-noise RSD] [--force-noise N] [--seed N]\n"
+    "       [--orientation literal|flipped] [--generator-preset fast|standard|fine|reference]\n"
+    "       [--information [--preset fast|standard|fine|reference]] [--mechanisms FILE]\n"
+    "       tread_wear_conceal --params FILE --effect NAME|none --bag DRIVES.bag --segments OUT.csv --answer OUT.json\n"
+    "       [--magnitude X] [--orientation literal|flipped] [--generator-preset NAME] [--mechanisms FILE]\n"
+    "       [--input-timeout-s S] [--update-rate-hz HZ]\n"
+    "       tread_wear_conceal --list [--mechanisms FILE]\n";
+
+/// --bag: the truth of the bag's drive segments (concealInRecordings), one row per wheel and segment.
+int concealInBag(const CommandLine& a, const BagReader& bag_reader, std::ostream& out, std::ostream& err) {
+  auto usage = [&](const std::string& msg) { return usageError(err, "tread_wear_conceal", msg, kConcealUsage); };
+  for (const char* k : {"params", "effect", "segments", "answer"})
+    if (!a.has(k)) return usage(std::string("--bag needs --") + k);
+  for (const char* k : {"runs", "design", "wear-noise", "force-noise", "seed", "preset"})
+    if (a.has(k)) return usage(std::string("--") + k + " does not go with --bag (the caller measures the truth)");
+  if (a.has("information")) return usage("--information does not go with --bag");
+  if (!bag_reader) return usage("--bag: this build has no rosbag support (built without catkin's rosbag)");
+  ExtendedModelOptions model;
+  model.preset = Preset::kReference;  // the converged grid, as the designs' truth
+  std::string e = applyModelOptions(a, &model, "generator-preset");
+  if (!e.empty()) return usage(e);
+  double magnitude = std::numeric_limits<double>::quiet_NaN();
+  ReplaySettings replay;
+  if (!a.number("magnitude", &magnitude, &e) ||
+      !a.number("input-timeout-s", &replay.estimator.stale_timeout_s, &e) ||
+      !a.number("update-rate-hz", &replay.update_rate_hz, &e))
+    return usage(e);
+  // As tread_wear_diagnose: a step longer than the timeout is a gap, not a time jump, unless longer than both.
+  replay.estimator.max_step_s = std::max(replay.estimator.max_step_s, 2.0 * replay.estimator.stale_timeout_s);
+  if (!replay.validate(&e)) return usage(e);
+  try {
+    const TireParams params = loadTireParams(a.get("params"));
+    const RunTable recordings = bag_reader(a.get("bag"), params, replay);
+    const ConcealCase c = concealInRecordings(params, recordings, a.get("effect"), magnitude, model);
+    const auto wheel_column = std::find(c.table.text_covariate_names.begin(), c.table.text_covariate_names.end(),
+                                        "wheel") - c.table.text_covariate_names.begin();
+    std::ofstream f(a.get("segments"));
+    f << "# tread_wear_conceal --bag " << a.get("bag") << ": true wear of each wheel's segment (effect in "
+      << a.get("answer") << ")\nwheel,segment,distance_m,true_wear_rate_kg_per_m,true_mass_loss_kg\n";
+    f.precision(17);
+    for (const RunRecord& r : c.table.runs)
+      f << r.text_covariates.at(static_cast<std::size_t>(wheel_column)) << "," << r.run_order << ","
+        << r.drive_distance_m << "," << r.measured_wear_rate_kg_per_m << ","
+        << r.measured_wear_rate_kg_per_m * r.drive_distance_m << "\n";
+    if (!f) throw std::runtime_error("cannot write " + a.get("segments"));
+    std::ofstream answer(a.get("answer"));
+    answer << answerJson(c.answer, nullptr);
+    if (!answer) throw std::runtime_error("cannot write " + a.get("answer"));
+    out << "wrote the truth of " << c.table.runs.size() << " segments to " << a.get("segments") << "\n";
+    return 0;
+  } catch (const std::exception& ex) {
+    err << "tread_wear_conceal: " << ex.what() << "\n";
+    return kExitData;
+  }
+}
+
+}  // namespace
+
+int runConcealCli(int argc, const char* const argv[], const BagReader& bag_reader, std::ostream& out,
+                  std::ostream& err) {
+  const char* usage_text = kConcealUsage;
   CommandLine a;
   std::string parse_error;
   const bool parsed = a.parse(argc, argv,
                {"params", "effect", "runs", "answer", "magnitude", "design", "wear-noise", "force-noise",
-                "seed", "orientation", "preset", "generator-preset", "mechanisms"},
+                "seed", "orientation", "preset", "generator-preset", "mechanisms", "bag", "segments",
+                "input-timeout-s", "update-rate-hz"},
                {"list", "information"}, &parse_error);
   auto usage = [&](const std::string& msg) { return usageError(err, "tread_wear_conceal", msg, usage_text); };
   if (a.help()) {
@@ -40,6 +101,7 @@ int runConcealCli(int argc, const char* const argv[], std::ostream& out, std::os
   if (!parsed) return usage(parse_error);
   std::optional<MechanismsInUse> mechanisms;  // user-defined terms join the library until the tool returns
   if (!useMechanisms(a, "tread_wear_conceal", err, &mechanisms)) return kExitData;
+  if (a.has("bag") && !a.has("list")) return concealInBag(a, bag_reader, out, err);
   if (a.has("list")) {
     for (const TermInfo& t : termLibrary()) {
       out << t.name << (t.physical ? "" : " (sensor)") << (t.user ? " (user-defined, " + t.user->where() + ")" : "")

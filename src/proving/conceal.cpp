@@ -140,15 +140,15 @@ void rigProgramme(const TireParams& base, const ConcealSpec& spec, Term term, do
   }
 }
 
-/// The truth's parameter values: random base levels, the term at its magnitude (thermal_wear's T0 fixed,
-/// load_fluctuation's scale 1 with the magnitude in the recorded load std); the answer gets them.
+/// The truth's parameter values: the base levels (w3_scale, mu_scale), the term at its magnitude (thermal_wear's T0
+/// fixed, load_fluctuation's scale 1 with the magnitude in the recorded load std); the answer gets them.
 std::vector<double> truthValues(const ExtendedModel& truth, const TireParams& base, Term term, double magnitude,
-                                std::mt19937_64& rng, std::normal_distribution<double>& normal, ConcealAnswer* ans) {
+                                const double levels[2], ConcealAnswer* ans) {
   std::vector<FitParameter> params = truth.parameters();
   std::vector<double> values;
   for (const FitParameter& p : params) values.push_back(p.initial);
-  values[0] = std::exp(kW3ScaleSigma * normal(rng));
-  values[1] = std::exp(kMuScaleSigma * normal(rng));
+  values[0] = levels[0];
+  values[1] = levels[1];
   if (term != Term::kNone && term != Term::kTurnSlipOrientation) {
     const TermInfo& info = termInfo(term);
     const int off = truth.parameterOffset(term);
@@ -168,6 +168,45 @@ std::vector<double> truthValues(const ExtendedModel& truth, const TireParams& ba
   return values;
 }
 
+/// The term of `effect` ("none": kNone) and its magnitude (NaN: the term's default). @throw std::invalid_argument
+/// for a term without a default magnitude when none is given.
+Term effectTerm(const std::string& effect, double* magnitude) {
+  Term term = Term::kNone;
+  if (effect != "none" && effect != kRoughRoadEffect) parseTerm(effect, &term);
+  if (term != Term::kNone && std::isnan(*magnitude)) *magnitude = defaultMagnitude(term);
+  if (term != Term::kNone && std::isnan(*magnitude) && termInfo(term).primary >= 0)
+    throw std::invalid_argument("effect '" + effect +
+                                "' has no default magnitude: give one (--magnitude, or test_magnitudes in its file)");
+  return term;
+}
+
+/// The truth's outputs on `table` (measurements set, any positive value): the base model at `levels` plus `term` at
+/// `magnitude`, on the runs' cells at model.preset; the answer gets the values. check_applicable: refuse a term the
+/// recordings cannot show. @throw std::invalid_argument naming the effect.
+Prediction truthPrediction(const TireParams& base, const ExtendedModelOptions& model, const RunTable& table, Term term,
+                           const std::string& effect, double magnitude, bool check_applicable, const double levels[2],
+                           ConcealAnswer* ans) {
+  const DiagnosisData data = buildDiagnosisData(table);
+  if (term != Term::kNone && (check_applicable || termInfo(term).user)) {
+    std::string why_not;
+    if (!termApplicable(term, data, &why_not))
+      throw std::invalid_argument("effect '" + effect + "' cannot be concealed in these recordings: " + why_not);
+    if (termInfo(term).user) {
+      Prediction plain;
+      if (!ExtendedModel(base, model, {}, data).predict({1.0, 1.0}, &plain))
+        throw std::invalid_argument("the base model cannot be evaluated on the recordings");
+      checkNoEffect(termInfo(term), data, plain);
+    }
+  }
+  std::vector<Term> terms;
+  if (term != Term::kNone) terms.push_back(term);
+  ExtendedModel truth(base, model, terms, data);
+  const std::vector<double> values = truthValues(truth, base, term, magnitude, levels, ans);
+  Prediction pred;
+  if (!truth.predict(values, &pred)) throw std::invalid_argument("the truth model cannot be evaluated for " + effect);
+  return pred;
+}
+
 ConcealCase concealEffect(const TireParams& base, const ConcealSpec& spec) {
   std::string error;
   if (!spec.validate(&error)) throw std::invalid_argument(error);
@@ -176,15 +215,9 @@ ConcealCase concealEffect(const TireParams& base, const ConcealSpec& spec) {
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   const bool drives = spec.design == "drives";
   const bool rough_road = spec.effect == kRoughRoadEffect;
-  const bool has_effect = spec.effect != "none";
-  Term term = Term::kNone;
-  if (has_effect && !rough_road) parseTerm(spec.effect, &term);
   double magnitude = spec.magnitude;
   if (rough_road && std::isnan(magnitude)) magnitude = kRoughRoadDefaultBeta;
-  if (term != Term::kNone && std::isnan(magnitude)) magnitude = defaultMagnitude(term);
-  if (term != Term::kNone && std::isnan(magnitude) && termInfo(term).primary >= 0)
-    throw std::invalid_argument("effect '" + spec.effect +
-                                "' has no default magnitude: give one (--magnitude, or test_magnitudes in its file)");
+  const Term term = effectTerm(spec.effect, &magnitude);
 
   ConcealCase out;
   ConcealAnswer& ans = out.answer;
@@ -203,25 +236,8 @@ ConcealCase concealEffect(const TireParams& base, const ConcealSpec& spec) {
   }
 
   // Truth.
-  const DiagnosisData data = buildDiagnosisData(table);
-  if (term != Term::kNone && (drives || termInfo(term).user)) {
-    std::string why_not;
-    if (!termApplicable(term, data, &why_not))
-      throw std::invalid_argument("effect '" + spec.effect + "' cannot be concealed in this design: " + why_not);
-    if (termInfo(term).user) {
-      Prediction plain;
-      if (!ExtendedModel(base, spec.model, {}, data).predict({1.0, 1.0}, &plain))
-        throw std::invalid_argument("the base model cannot be evaluated on the design");
-      checkNoEffect(termInfo(term), data, plain);
-    }
-  }
-  std::vector<Term> terms;
-  if (term != Term::kNone) terms.push_back(term);
-  ExtendedModel truth(base, spec.model, terms, data);
-  const std::vector<double> values = truthValues(truth, base, term, magnitude, rng, normal, &ans);
-  Prediction pred;
-  if (!truth.predict(values, &pred))
-    throw std::invalid_argument("the truth model cannot be evaluated for " + spec.effect);
+  const double levels[2] = {std::exp(kW3ScaleSigma * normal(rng)), std::exp(kMuScaleSigma * normal(rng))};
+  Prediction pred = truthPrediction(base, spec.model, table, term, spec.effect, magnitude, drives, levels, &ans);
   if (rough_road) {
     const int col =
         static_cast<int>(std::find(table.covariate_names.begin(), table.covariate_names.end(), "rough_road_share") -
@@ -250,6 +266,31 @@ ConcealCase concealEffect(const TireParams& base, const ConcealSpec& spec) {
     r.measured_side_force_n = pred.side_force_n[i] + spec.side_force_noise_n * normal(rng);
     r.measured_wear_rate_kg_per_m = pred.wear_kg_per_m[i] * std::max(0.05, 1.0 + spec.wear_noise_rsd * normal(rng));
   }
+  return out;
+}
+
+ConcealCase concealInRecordings(const TireParams& base, const RunTable& recordings, const std::string& effect,
+                                double magnitude, const ExtendedModelOptions& model) {
+  Term term = Term::kNone;
+  if (effect != "none" && !parseTerm(effect, &term))
+    throw std::invalid_argument("effect '" + effect + "' is not a library term or none");
+  term = effectTerm(effect, &magnitude);
+  ConcealCase out;
+  out.answer.effect = effect;
+  out.answer.spec.effect = effect;
+  out.answer.spec.magnitude = magnitude;
+  out.answer.spec.design = "recordings";
+  out.answer.spec.model = model;
+  RunTable table = recordings;
+  for (RunRecord& r : table.runs) {
+    r.measured_side_force_n = NAN;
+    r.measured_wear_rate_kg_per_m = 1.0;  // placeholders until the truth is evaluated (buildDiagnosisData)
+  }
+  const double levels[2] = {1.0, 1.0};
+  const Prediction pred = truthPrediction(base, model, table, term, effect, magnitude, true, levels, &out.answer);
+  for (std::size_t i = 0; i < table.runs.size(); ++i) table.runs[i].measured_wear_rate_kg_per_m = pred.wear_kg_per_m[i];
+  out.table = table;
+  out.noise_free = table;
   return out;
 }
 

@@ -2,5 +2,9 @@
 #include <iostream>
 
 #include "tread_wear/cli/conceal_cli.h"
+#include "tread_wear/ros/bag/diagnosis_bag.h"
 
-int main(int argc, char** argv) { return tread_wear::diagnosis::runConcealCli(argc, argv, std::cout, std::cerr); }
+int main(int argc, char** argv) {
+  return tread_wear::diagnosis::runConcealCli(argc, argv, tread_wear::diagnosis::readDiagnosisBag, std::cout,
+                                              std::cerr);
+}

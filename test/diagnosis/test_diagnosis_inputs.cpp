@@ -53,7 +53,11 @@ CliResult harnessCli(std::vector<std::string> args) {
 }
 
 CliResult concealCli(std::vector<std::string> args) {
-  return runCli("tread_wear_conceal", runConcealCli, std::move(args));
+  return runCli("tread_wear_conceal",
+                [](int argc, const char* const argv[], std::ostream& out, std::ostream& err) {
+                  return runConcealCli(argc, argv, {}, out, err);
+                },
+                std::move(args));
 }
 
 }  // namespace

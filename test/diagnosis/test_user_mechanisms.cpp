@@ -220,8 +220,11 @@ TEST(UserMechanisms, ConcealedExampleMechanismIsSelectedThroughTheTools) {
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   const CliResult conceal = runCli(
-      runConcealCli, {"--params", kParams, "--mechanisms", kExample, "--effect", "humidity_abrasion", "--magnitude",
-                      "-0.015", "--seed", "11", "--runs", dir + "/runs.csv", "--answer", dir + "/answer.json"});
+      [](int argc, const char* const argv[], std::ostream& out, std::ostream& err) {
+        return runConcealCli(argc, argv, {}, out, err);
+      },
+      {"--params", kParams, "--mechanisms", kExample, "--effect", "humidity_abrasion", "--magnitude", "-0.015",
+       "--seed", "11", "--runs", dir + "/runs.csv", "--answer", dir + "/answer.json"});
   ASSERT_EQ(conceal.code, 0) << conceal.err;
   const CliResult r = diagnoseCli({"--params", kParams, "--runs", dir + "/runs.csv", "--mechanisms", kExample,
                                    "--report", dir + "/report", "--no-plots", "--detection-power", "0"});

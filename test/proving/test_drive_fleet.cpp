@@ -124,6 +124,30 @@ TEST(DriveDesign, TruthWithoutEffectIsTheBaseModel) {
   }
 }
 
+// The concealment applied to given recordings (a fleet's segments read from its bags): without an effect the base
+// model at the file's levels, and contact_time_wear adds wear in proportion to w4 (W_r += w4 4ab / V).
+TEST(DriveDesign, ConcealInRecordingsIsTheBaseModelPlusTheTerm) {
+  const TireParams base = passengerTire();
+  const ConcealSpec spec = driveSpec("none");
+  const RunTable recordings = concealEffect(base, spec).table;
+  const ConcealCase plain = concealInRecordings(base, recordings, "none", NAN, spec.model);
+  Prediction p;
+  ASSERT_TRUE(ExtendedModel(base, spec.model, {}, buildDiagnosisData(recordings)).predict({1.0, 1.0}, &p));
+  const ConcealCase small = concealInRecordings(base, recordings, "contact_time_wear", 1e-6, spec.model);
+  const ConcealCase large = concealInRecordings(base, recordings, "contact_time_wear", 2e-6, spec.model);
+  ASSERT_EQ(recordings.runs.size(), plain.table.runs.size());
+  for (std::size_t i = 0; i < p.wear_kg_per_m.size(); ++i) {
+    const double none = plain.table.runs[i].measured_wear_rate_kg_per_m;
+    EXPECT_NEAR(none, p.wear_kg_per_m[i], 1e-12 * p.wear_kg_per_m[i]);
+    const double added = small.table.runs[i].measured_wear_rate_kg_per_m - none;
+    EXPECT_GT(added, 0.0);
+    EXPECT_NEAR(large.table.runs[i].measured_wear_rate_kg_per_m - none, 2.0 * added, 1e-9 * none);
+  }
+  EXPECT_EQ(1e-6, small.answer.primary_value);
+  EXPECT_EQ(1.0, small.answer.parameters.at("w3_scale"));
+  EXPECT_THROW(concealInRecordings(base, recordings, "no_such_term", NAN, spec.model), std::invalid_argument);
+}
+
 TEST(DriveDesign, RoughRoadScalesTheTruthByItsShare) {
   const TireParams base = passengerTire();
   const double beta = 0.6;

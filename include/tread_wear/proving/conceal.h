@@ -78,5 +78,13 @@ double defaultMagnitude(Term term);
 /// without a magnitude or that the design cannot show; DiagnosisError for a user-defined one that does not reduce
 /// to the model at its no-effect values.
 ConcealCase concealEffect(const TireParams& base, const ConcealSpec& spec);
+/// The truth of given recordings instead of a design's (e.g. a fleet's drive segments read from its bags,
+/// ros/bag/diagnosis_bag.h): every run's wear rate under the base model at the file's levels (w3_scale = mu_scale =
+/// 1) plus the hidden library term `effect` ("none": the base model) at `magnitude` (NaN: its default), evaluated by
+/// ExtendedModel on the runs' cells at model.preset, as concealEffect's truth. No noise and no side force: the caller
+/// measures (table and noise_free are the same). @throw std::invalid_argument for an unknown effect or one these
+/// recordings cannot show (termApplicable), naming it.
+ConcealCase concealInRecordings(const TireParams& base, const RunTable& recordings, const std::string& effect,
+                                double magnitude, const ExtendedModelOptions& model);
 }  // namespace diagnosis
 }  // namespace tread_wear
