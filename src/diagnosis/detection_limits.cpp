@@ -32,9 +32,8 @@ class Linearisation {
 
   int measured() const { return static_cast<int>(rows_.size()); }
 
-  /// The model's least-squares fit to the truth in noise units (the best of its starts, each from `start` where
-  /// given: values of the first parameters); unusable if none converged.
-  LeastSquaresSummary bestFit(const ExtendedModel& model, const std::vector<double>& start = {}) const {
+  /// The model's least-squares fit to the truth in noise units (the best of its starts); unusable if none converged.
+  LeastSquaresSummary bestFit(const ExtendedModel& model) const {
     LeastSquaresProblem problem;
     problem.num_records = static_cast<int>(truth_.runs.size());
     problem.residuals_per_record = kNumOutputs;
@@ -46,22 +45,17 @@ class Linearisation {
       return true;
     };
     LeastSquaresSummary best;
-    std::vector<FitParameter> params = model.parameters();
-    for (std::size_t j = 0; j < start.size() && j < params.size(); ++j)
-      params[j].initial = std::clamp(start[j], params[j].lower, params[j].upper);
-    for (const std::vector<FitParameter>& from : model.fitStarts(params, false)) {
-      problem.parameters = from;
+    for (const std::vector<FitParameter>& start : model.fitStarts(model.parameters(), false)) {
+      problem.parameters = start;
       LeastSquaresSummary s = solveLeastSquares(problem, options_.solver);
       if (s.usable && (!best.usable || s.final_cost < best.final_cost)) best = std::move(s);
     }
     return best;
   }
 
-  /// lambda of Detectability: the base model's smallest residual sum of squares on the truth, in noise units. The
-  /// fit starts from `levels` (w3_scale, mu_scale): a truth made there plus a term is fitted best near them (from
-  /// 1, 1 every fit of a detection limit's search walked mu_scale to its bound 3 again on 12 drives).
-  double baseLambda(const std::vector<double>& levels) const {
-    const LeastSquaresSummary best = bestFit(ExtendedModel(base_, options_.model, {}, truth_), levels);
+  /// lambda of Detectability: the base model's smallest residual sum of squares on the truth, in noise units.
+  double baseLambda() const {
+    const LeastSquaresSummary best = bestFit(ExtendedModel(base_, options_.model, {}, truth_));
     if (!best.usable) throw std::invalid_argument("detectability: the base model cannot be fitted to the truth");
     return 2.0 * best.final_cost;
   }
@@ -275,7 +269,7 @@ class TermTest {
     for (std::size_t i = 0; i < truth.runs.size(); ++i)
       for (int o = 0; o < kNumOutputs; ++o)
         if (std::isfinite(truth.runs[i].measured[o])) truth.runs[i].measured[o] = pred.value(static_cast<Output>(o), i);
-    return Linearisation(base_, truth, options_).baseLambda({w3_scale_, mu_scale_});
+    return Linearisation(base_, truth, options_).baseLambda();
   }
 
   double power(double lambda) const { return fTestPower(lambda, df1_, df2_, level_); }
