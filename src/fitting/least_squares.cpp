@@ -362,22 +362,21 @@ class BoundedSolve {
     return cs;
   }
 
-  /// Whether moving a held parameter off its bound, by the Jacobian step inwards, lowers the cost (the held set
-  /// is then not the optimum's).
-  bool leavesABound(const std::vector<double>& u, const std::vector<int>& held) const {
+  /// The held parameters whose move off their bound, by the Jacobian step inwards, lowers the cost.
+  std::vector<int> leavingBounds(const std::vector<double>& u, const std::vector<int>& held) const {
     const int m = cost_->num_residuals();
     std::vector<double> r(m), moved = u;
-    if (!cost_->residualsAt(u.data(), r.data())) return false;
+    std::vector<int> leaving;
+    if (!cost_->residualsAt(u.data(), r.data())) return leaving;
     const double at = squaredNorm(r);
     for (int j : held) {
       const double lo = coords_.lowerInternal(j);
       const bool on_lower = std::isfinite(lo) && std::abs(u[j] - lo) <= options_.bound_tolerance * (1.0 + std::abs(lo));
       moved[j] = u[j] + (on_lower ? 1.0 : -1.0) * options_.jacobian_step;
-      const bool lower = cost_->residualsAt(moved.data(), r.data()) && squaredNorm(r) < at;
+      if (cost_->residualsAt(moved.data(), r.data()) && squaredNorm(r) < at) leaving.push_back(j);
       moved[j] = u[j];
-      if (lower) return true;
     }
-    return false;
+    return leaving;
   }
 
  private:
@@ -439,17 +438,28 @@ LeastSquaresSummary solveLeastSquares(const LeastSquaresProblem& problem, const 
   ceres::Solver::Summary cs = solve.run(&u, {}, options.hold_bound_parameters);
   s.initial_cost = cs.initial_cost;
   s.iterations = static_cast<int>(cs.iterations.size()) - 1;
-  const std::vector<int> held = solve.atBounds(u);
-  if (options.hold_bound_parameters && cs.IsSolutionUsable() && !held.empty() && static_cast<int>(held.size()) < n) {
-    // The others alone, then all again if a held parameter would leave its bound; a failed solve keeps the last.
-    for (const std::vector<int>& hold : {held, std::vector<int>{}}) {
+  // The parameters that settled on a bound held, the others solved alone; those that would leave their bound are
+  // released and the rest solved again, until none would (each round releases one at least). A failed solve keeps
+  // the last solution.
+  std::vector<int> held = solve.atBounds(u);
+  while (options.hold_bound_parameters && cs.IsSolutionUsable() && !held.empty()) {
+    if (static_cast<int>(held.size()) < n) {
       std::vector<double> v = u;
-      const ceres::Solver::Summary next = solve.run(&v, hold, false);
+      const ceres::Solver::Summary next = solve.run(&v, held, false);
       s.iterations += static_cast<int>(next.iterations.size()) - 1;
       if (!next.IsSolutionUsable()) break;
       u = v;
       cs = next;
-      if (!solve.leavesABound(u, held)) break;
+    }
+    const std::vector<int> leaving = solve.leavingBounds(u, held);
+    if (leaving.empty()) break;
+    std::vector<int> kept;
+    for (int j : held)
+      if (std::find(leaving.begin(), leaving.end(), j) == leaving.end()) kept.push_back(j);
+    held = kept;
+    if (held.empty()) {
+      cs = solve.run(&u, {}, false);
+      s.iterations += static_cast<int>(cs.iterations.size()) - 1;
     }
   }
   s.final_cost = cs.final_cost;
