@@ -303,6 +303,113 @@ std::string LeastSquaresSummary::report() const {
   return os.str();
 }
 
+/// Successful iterations with the same parameters on their bounds after which the first solve of
+/// LeastSquaresOptions::hold_bound_parameters ends (the bound set has then settled).
+constexpr int kSettledBoundIterations = 3;
+
+/// Ceres runs over the internal coordinates, with the bounds, optionally holding some parameters where they are
+/// (hold_bound_parameters: Ceres's projected steps crawl along an active bound, the free parameters' part of each
+/// step being solved jointly with the clipped one).
+class BoundedSolve {
+ public:
+  BoundedSolve(FittingCost* cost, const Coordinates& coords, const LeastSquaresOptions& options)
+      : cost_(cost), coords_(coords), options_(options) {}
+
+  /// Parameters at one of their bounds (bound_tolerance).
+  std::vector<int> atBounds(const std::vector<double>& u) const {
+    std::vector<int> at;
+    for (int j = 0; j < static_cast<int>(u.size()); ++j) {
+      const double lo = coords_.lowerInternal(j), hi = coords_.upperInternal(j);
+      if ((std::isfinite(lo) && std::abs(u[j] - lo) <= options_.bound_tolerance * (1.0 + std::abs(lo))) ||
+          (std::isfinite(hi) && std::abs(u[j] - hi) <= options_.bound_tolerance * (1.0 + std::abs(hi))))
+        at.push_back(j);
+    }
+    return at;
+  }
+
+  /// Solves from *u, the parameters `held` fixed; with `stop_when_settled`, ends once the same non-empty set of
+  /// parameters has sat on its bounds for kSettledBoundIterations successful iterations.
+  ceres::Solver::Summary run(std::vector<double>* u, const std::vector<int>& held, bool stop_when_settled) const {
+    ceres::Problem::Options problem_options;
+    problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    ceres::Problem problem(problem_options);
+    problem.AddResidualBlock(cost_, nullptr, u->data());
+    if (!held.empty()) problem.SetManifold(u->data(), new ceres::SubsetManifold(static_cast<int>(u->size()), held));
+    for (int j = 0; j < static_cast<int>(u->size()); ++j) {
+      const double lo = coords_.lowerInternal(j), hi = coords_.upperInternal(j);
+      if (std::isfinite(lo)) problem.SetParameterLowerBound(u->data(), j, lo);
+      if (std::isfinite(hi)) problem.SetParameterUpperBound(u->data(), j, hi);
+    }
+    ceres::Solver::Options so;
+    so.minimizer_type = ceres::TRUST_REGION;
+    so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+    so.linear_solver_type = ceres::DENSE_QR;
+    so.max_num_iterations = options_.max_iterations;
+    so.function_tolerance = options_.function_tolerance;
+    so.gradient_tolerance = options_.gradient_tolerance;
+    so.parameter_tolerance = options_.parameter_tolerance;
+    if (!options_.bounded_line_search) so.max_num_line_search_step_size_iterations = 0;  // Ceres: no line search
+    so.logging_type = ceres::SILENT;
+    so.minimizer_progress_to_stdout = false;
+    so.num_threads = 1;
+    SettledBounds settled(*this, *u);
+    if (stop_when_settled) {
+      so.update_state_every_iteration = true;
+      so.callbacks.push_back(&settled);
+    }
+    ceres::Solver::Summary cs;
+    ceres::Solve(so, &problem, &cs);
+    return cs;
+  }
+
+  /// The held parameters whose move off their bound, by the Jacobian step inwards, lowers the cost.
+  std::vector<int> leavingBounds(const std::vector<double>& u, const std::vector<int>& held) const {
+    const int m = cost_->num_residuals();
+    std::vector<double> r(m), moved = u;
+    std::vector<int> leaving;
+    if (!cost_->residualsAt(u.data(), r.data())) return leaving;
+    const double at = squaredNorm(r);
+    for (int j : held) {
+      const double lo = coords_.lowerInternal(j);
+      const bool on_lower = std::isfinite(lo) && std::abs(u[j] - lo) <= options_.bound_tolerance * (1.0 + std::abs(lo));
+      moved[j] = u[j] + (on_lower ? 1.0 : -1.0) * options_.jacobian_step;
+      if (cost_->residualsAt(moved.data(), r.data()) && squaredNorm(r) < at) leaving.push_back(j);
+      moved[j] = u[j];
+    }
+    return leaving;
+  }
+
+ private:
+  static double squaredNorm(const std::vector<double>& r) {
+    double sum = 0.0;
+    for (double v : r) sum += v * v;
+    return sum;
+  }
+
+  /// The callback of run's stop_when_settled.
+  class SettledBounds final : public ceres::IterationCallback {
+   public:
+    SettledBounds(const BoundedSolve& solve, const std::vector<double>& u) : solve_(solve), u_(u) {}
+    ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
+      if (!summary.step_is_successful) return ceres::SOLVER_CONTINUE;
+      const std::vector<int> now = solve_.atBounds(u_);
+      streak_ = !now.empty() && now == last_ ? streak_ + 1 : 0;
+      last_ = now;
+      return streak_ >= kSettledBoundIterations ? ceres::SOLVER_TERMINATE_SUCCESSFULLY : ceres::SOLVER_CONTINUE;
+    }
+
+   private:
+    const BoundedSolve& solve_;
+    const std::vector<double>& u_;
+    std::vector<int> last_;
+    int streak_ = 0;
+  };
+
+  FittingCost* cost_;
+  const Coordinates& coords_;
+  const LeastSquaresOptions& options_;
+};
+
 LeastSquaresSummary solveLeastSquares(const LeastSquaresProblem& problem, const LeastSquaresOptions& options,
                                       const std::vector<int>& records_in) {
   LeastSquaresSummary s;
@@ -326,33 +433,36 @@ LeastSquaresSummary solveLeastSquares(const LeastSquaresProblem& problem, const 
   std::vector<double> u(n);
   for (int j = 0; j < n; ++j) u[j] = coords.toInternal(j, problem.parameters[j].initial);
 
-  auto* cost = new FittingCost(problem, options, records);  // owned by the ceres::Problem
-  ceres::Problem::Options problem_options;
-  ceres::Problem ceres_problem(problem_options);
-  ceres_problem.AddResidualBlock(cost, nullptr, u.data());
-  for (int j = 0; j < n; ++j) {
-    const double lo = coords.lowerInternal(j), hi = coords.upperInternal(j);
-    if (std::isfinite(lo)) ceres_problem.SetParameterLowerBound(u.data(), j, lo);
-    if (std::isfinite(hi)) ceres_problem.SetParameterUpperBound(u.data(), j, hi);
-  }
-
-  ceres::Solver::Options so;
-  so.minimizer_type = ceres::TRUST_REGION;
-  so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  so.linear_solver_type = ceres::DENSE_QR;
-  so.max_num_iterations = options.max_iterations;
-  so.function_tolerance = options.function_tolerance;
-  so.gradient_tolerance = options.gradient_tolerance;
-  so.parameter_tolerance = options.parameter_tolerance;
-  so.logging_type = ceres::SILENT;
-  so.minimizer_progress_to_stdout = false;
-  so.num_threads = 1;
-  ceres::Solver::Summary cs;
-  ceres::Solve(so, &ceres_problem, &cs);
-
+  FittingCost cost(problem, options, records);
+  const BoundedSolve solve(&cost, coords, options);
+  ceres::Solver::Summary cs = solve.run(&u, {}, options.hold_bound_parameters);
   s.initial_cost = cs.initial_cost;
-  s.final_cost = cs.final_cost;
   s.iterations = static_cast<int>(cs.iterations.size()) - 1;
+  // The parameters that settled on a bound held, the others solved alone; those that would leave their bound are
+  // released and the rest solved again, until none would (each round releases one at least). A failed solve keeps
+  // the last solution.
+  std::vector<int> held = solve.atBounds(u);
+  while (options.hold_bound_parameters && cs.IsSolutionUsable() && !held.empty()) {
+    if (static_cast<int>(held.size()) < n) {
+      std::vector<double> v = u;
+      const ceres::Solver::Summary next = solve.run(&v, held, false);
+      s.iterations += static_cast<int>(next.iterations.size()) - 1;
+      if (!next.IsSolutionUsable()) break;
+      u = v;
+      cs = next;
+    }
+    const std::vector<int> leaving = solve.leavingBounds(u, held);
+    if (leaving.empty()) break;
+    std::vector<int> kept;
+    for (int j : held)
+      if (std::find(leaving.begin(), leaving.end(), j) == leaving.end()) kept.push_back(j);
+    held = kept;
+    if (held.empty()) {
+      cs = solve.run(&u, {}, false);
+      s.iterations += static_cast<int>(cs.iterations.size()) - 1;
+    }
+  }
+  s.final_cost = cs.final_cost;
   s.termination = mapTermination(cs.termination_type);
   s.message = cs.message;
   s.usable = cs.IsSolutionUsable();
@@ -371,15 +481,15 @@ LeastSquaresSummary solveLeastSquares(const LeastSquaresProblem& problem, const 
     s.parameters.push_back(e);
   }
 
-  std::vector<double> r(cost->num_residuals());
-  if (!cost->residualsAt(u.data(), r.data())) {
+  std::vector<double> r(cost.num_residuals());
+  if (!cost.residualsAt(u.data(), r.data())) {
     s.termination = TerminationType::kFailure;
     s.usable = false;
     s.message += "; residual function failed at the solution";
     return s;
   }
-  s.residuals.assign(r.begin(), r.begin() + cost->numData());
-  fillStatistics(problem, *cost, coords, u, r, options.robust_covariance, &s);
+  s.residuals.assign(r.begin(), r.begin() + cost.numData());
+  fillStatistics(problem, cost, coords, u, r, options.robust_covariance, &s);
   return s;
 }
 

@@ -81,6 +81,17 @@ struct LeastSquaresOptions {
   bool central_differences = true;     ///< central (2p evaluations) or forward (p) differences
   double bound_tolerance = 1e-6;       ///< |u - u_bound| <= tol (1 + |u_bound|) counts as at the bound
   bool robust_covariance = false;      ///< HC3 sandwich standard errors and correlations (see above)
+  /// Bounded problems: Ceres shortens each projected trust-region step by an Armijo line search whose cubic
+  /// interpolation takes the gradient, i.e. a whole finite-difference Jacobian (2p residual evaluations), at every
+  /// trial step. false: no line search; a projected step that does not lower the cost is rejected and the trust
+  /// region shrinks, one residual evaluation per trial. Where a residual evaluation is expensive (the diagnosis's
+  /// brush model on drive cells) false costs a fraction.
+  bool bounded_line_search = true;
+  /// Hold the parameters that settle on a bound (kept there for 3 successful iterations) and solve for the others
+  /// alone, then release them if a step inwards lowers the cost. Ceres's projected steps otherwise crawl along an
+  /// active bound and may stop short of the constrained optimum on the parameter tolerance (test
+  /// WithoutTheBoundedLineSearchTheConstrainedOptimumIsReachedWithFewerEvaluations).
+  bool hold_bound_parameters = false;
 
   bool validate(std::string* error) const;
 };
