@@ -318,12 +318,8 @@ class BoundedSolve {
   /// Parameters at one of their bounds (bound_tolerance).
   std::vector<int> atBounds(const std::vector<double>& u) const {
     std::vector<int> at;
-    for (int j = 0; j < static_cast<int>(u.size()); ++j) {
-      const double lo = coords_.lowerInternal(j), hi = coords_.upperInternal(j);
-      if ((std::isfinite(lo) && std::abs(u[j] - lo) <= options_.bound_tolerance * (1.0 + std::abs(lo))) ||
-          (std::isfinite(hi) && std::abs(u[j] - hi) <= options_.bound_tolerance * (1.0 + std::abs(hi))))
-        at.push_back(j);
-    }
+    for (int j = 0; j < static_cast<int>(u.size()); ++j)
+      if (onBound(u[j], coords_.lowerInternal(j)) || onBound(u[j], coords_.upperInternal(j))) at.push_back(j);
     return at;
   }
 
@@ -370,8 +366,7 @@ class BoundedSolve {
     if (!cost_->residualsAt(u.data(), r.data())) return leaving;
     const double at = squaredNorm(r);
     for (int j : held) {
-      const double lo = coords_.lowerInternal(j);
-      const bool on_lower = std::isfinite(lo) && std::abs(u[j] - lo) <= options_.bound_tolerance * (1.0 + std::abs(lo));
+      const bool on_lower = onBound(u[j], coords_.lowerInternal(j));
       moved[j] = u[j] + (on_lower ? 1.0 : -1.0) * options_.jacobian_step;
       if (cost_->residualsAt(moved.data(), r.data()) && squaredNorm(r) < at) leaving.push_back(j);
       moved[j] = u[j];
@@ -380,6 +375,10 @@ class BoundedSolve {
   }
 
  private:
+  /// True if the internal value u lies on the (finite) bound, within bound_tolerance.
+  bool onBound(double u, double bound) const {
+    return std::isfinite(bound) && std::abs(u - bound) <= options_.bound_tolerance * (1.0 + std::abs(bound));
+  }
   static double squaredNorm(const std::vector<double>& r) {
     double sum = 0.0;
     for (double v : r) sum += v * v;
