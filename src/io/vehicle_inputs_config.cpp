@@ -21,53 +21,47 @@ bool wrongType(const std::string& key, const std::string& expected, std::string*
   return false;
 }
 
-bool read(const ConfigValue& doc, const std::string& key, double* value, std::string* error) {
-  const ConfigValue* v = find(doc, key);
-  if (v == nullptr) return true;
-  if (v->type != ConfigValue::Type::kNumber) return wrongType(key, "a number", error);
-  *value = v->number;
+/// One value of the file's kind for T into *out; false (and *out untouched) for another kind.
+bool take(const ConfigValue& v, double* out) {
+  if (v.type != ConfigValue::Type::kNumber) return false;
+  *out = v.number;
+  return true;
+}
+bool take(const ConfigValue& v, bool* out) {
+  if (v.type != ConfigValue::Type::kBool) return false;
+  *out = v.boolean;
+  return true;
+}
+bool take(const ConfigValue& v, std::string* out) {
+  if (v.type != ConfigValue::Type::kString) return false;
+  *out = v.string;
   return true;
 }
 
-bool read(const ConfigValue& doc, const std::string& key, bool* value, std::string* error) {
+/// What the error says a key of T (one value, or a list of N per wheel or per axis) must be.
+const char* oneOf(const double*) { return "a number"; }
+const char* oneOf(const bool*) { return "true or false"; }
+const char* oneOf(const std::string*) { return "a string"; }
+const char* listOf(const double*) { return "numbers"; }
+const char* listOf(const std::string*) { return "strings (FL, FR, RL, RR)"; }
+
+/// The value at `key` into *value; an absent key keeps the default.
+template <class T>
+bool read(const ConfigValue& doc, const std::string& key, T* value, std::string* error) {
   const ConfigValue* v = find(doc, key);
-  if (v == nullptr) return true;
-  if (v->type != ConfigValue::Type::kBool) return wrongType(key, "true or false", error);
-  *value = v->boolean;
-  return true;
+  if (v == nullptr || take(*v, value)) return true;
+  return wrongType(key, oneOf(value), error);
 }
 
-bool read(const ConfigValue& doc, const std::string& key, std::string* value, std::string* error) {
+/// A list of exactly N values at `key` into *value; an absent key keeps the default.
+template <class T, std::size_t N>
+bool read(const ConfigValue& doc, const std::string& key, std::array<T, N>* value, std::string* error) {
   const ConfigValue* v = find(doc, key);
   if (v == nullptr) return true;
-  if (v->type != ConfigValue::Type::kString) return wrongType(key, "a string", error);
-  *value = v->string;
-  return true;
-}
-
-template <std::size_t N>
-bool read(const ConfigValue& doc, const std::string& key, std::array<double, N>* value, std::string* error) {
-  const ConfigValue* v = find(doc, key);
-  if (v == nullptr) return true;
-  const std::string expected = "a list of " + std::to_string(N) + " numbers";
+  const std::string expected = "a list of " + std::to_string(N) + " " + listOf(value->data());
   if (v->type != ConfigValue::Type::kList || v->list.size() != N) return wrongType(key, expected, error);
-  for (std::size_t i = 0; i < N; ++i) {
-    if (v->list[i].type != ConfigValue::Type::kNumber) return wrongType(key, expected, error);
-    (*value)[i] = v->list[i].number;
-  }
-  return true;
-}
-
-template <std::size_t N>
-bool read(const ConfigValue& doc, const std::string& key, std::array<std::string, N>* value, std::string* error) {
-  const ConfigValue* v = find(doc, key);
-  if (v == nullptr) return true;
-  const std::string expected = "a list of " + std::to_string(N) + " strings (FL, FR, RL, RR)";
-  if (v->type != ConfigValue::Type::kList || v->list.size() != N) return wrongType(key, expected, error);
-  for (std::size_t i = 0; i < N; ++i) {
-    if (v->list[i].type != ConfigValue::Type::kString) return wrongType(key, expected, error);
-    (*value)[i] = v->list[i].string;
-  }
+  for (std::size_t i = 0; i < N; ++i)
+    if (!take(v->list[i], &(*value)[i])) return wrongType(key, expected, error);
   return true;
 }
 
