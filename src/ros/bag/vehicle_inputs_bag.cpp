@@ -255,8 +255,7 @@ class CycleWriter {
 /// input_time), then copies /drive/info.
 void feedSensors(rosbag::Bag& in, const SensorTopics& topics, VehicleInputPipeline* pipeline, CycleWriter* writer,
                  rosbag::Bag* out, VehicleInputsResult* result) {
-  double last_stamp = 0.0;
-  bool any = false;
+  double last_stamp = -std::numeric_limits<double>::infinity();  // of the IMU and joint states [s]
   rosbag::View sensors(in, rosbag::TopicQuery(std::vector<std::string>{topics.imu, topics.joints, topics.odom}));
   for (const rosbag::MessageInstance& m : sensors) {
     if (m.getTopic() == topics.imu) {
@@ -264,8 +263,7 @@ void feedSensors(rosbag::Bag& in, const SensorTopics& topics, VehicleInputPipeli
       if (!imu) continue;
       ++result->imu_messages;
       const double stamp = imu->header.stamp.toSec();
-      last_stamp = any ? std::max(last_stamp, stamp) : stamp;
-      any = true;
+      last_stamp = std::max(last_stamp, stamp);
       pipeline->cyclesBefore(InputStream::kImu, stamp, *writer);
       pipeline->addImu(stamp, {{imu->linear_acceleration.x, imu->linear_acceleration.y, imu->linear_acceleration.z}},
                        {{imu->angular_velocity.x, imu->angular_velocity.y, imu->angular_velocity.z}});
@@ -274,8 +272,7 @@ void feedSensors(rosbag::Bag& in, const SensorTopics& topics, VehicleInputPipeli
       if (!js) continue;
       ++result->joint_state_messages;
       const double stamp = js->header.stamp.toSec();
-      last_stamp = any ? std::max(last_stamp, stamp) : stamp;
-      any = true;
+      last_stamp = std::max(last_stamp, stamp);
       pipeline->cyclesBefore(InputStream::kJoints, stamp, *writer);
       pipeline->addJoints(stamp, js->name, js->position, js->velocity);
     } else {
@@ -285,7 +282,7 @@ void feedSensors(rosbag::Bag& in, const SensorTopics& topics, VehicleInputPipeli
       pipeline->addSpeed(odom->header.stamp.toSec(), odom->twist.twist.linear.x, odom->twist.twist.linear.y);
     }
   }
-  if (any) pipeline->cyclesThrough(last_stamp, *writer);
+  if (std::isfinite(last_stamp)) pipeline->cyclesThrough(last_stamp, *writer);
   if (topics.info.empty()) return;
   rosbag::View info(in, rosbag::TopicQuery(topics.info));
   for (const rosbag::MessageInstance& m : info) {
