@@ -1,15 +1,12 @@
 #include "tread_wear/pipeline/node_persistence.h"
 
-#include <chrono>
 #include <cstdio>
 #include <utility>
 
+#include "tread_wear/pipeline/loop_clock.h"
+
 namespace tread_wear {
 namespace {
-
-double wallNow_s() {
-  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-}
 
 constexpr const char* kSaveFailed = "save failed: ";
 /// A failed save is logged at most this often [s].

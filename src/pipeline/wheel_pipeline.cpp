@@ -1,27 +1,14 @@
 #include "tread_wear/pipeline/wheel_pipeline.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 
 #include "tread_wear/io/params_io.h"
+#include "tread_wear/pipeline/loop_clock.h"
 
 namespace tread_wear {
-namespace {
-
-double steadyNow_s() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-void atomicMax(std::atomic<double>& a, double v) {
-  double cur = a.load(std::memory_order_relaxed);
-  while (v > cur && !a.compare_exchange_weak(cur, v, std::memory_order_relaxed)) {
-  }
-}
-
-}  // namespace
 
 WheelPipeline::WheelPipeline(const WheelConfig& config, const TireParams& tire, const NodeConfig& node)
     : config_(config),

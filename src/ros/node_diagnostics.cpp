@@ -3,16 +3,13 @@
 #include <ros/console.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <string>
 
+#include "tread_wear/pipeline/loop_clock.h"
+
 namespace tread_wear {
 namespace {
-
-double steadyNow_s() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 
 /// The causes a step can leave time unintegrated for (WheelEstimator::unaccountedTime_s(cause)).
 constexpr WheelStatus kLossCauses[] = {WheelStatus::kNoInput, WheelStatus::kStaleInput, WheelStatus::kInvalidInput,

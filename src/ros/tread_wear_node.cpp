@@ -2,7 +2,6 @@
 
 #include <visualization_msgs/MarkerArray.h>
 
-#include <chrono>
 #include <cstdint>
 
 #include <std_srvs/SetBool.h>
@@ -12,28 +11,12 @@
 #include "tread_wear/WheelLoad.h"
 #include "tread_wear/WheelSlip.h"
 #include "tread_wear/WheelSpeed.h"
+#include "tread_wear/pipeline/loop_clock.h"
 #include "tread_wear/ros/node_config.h"
 #include "tread_wear/ros/node_services.h"
 #include "tread_wear/ros/ros_log.h"
 
 namespace tread_wear {
-namespace {
-
-double steadyNow_s() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-double wallNow_s() {
-  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-}
-
-void atomicMax(std::atomic<double>& a, double v) {
-  double cur = a.load(std::memory_order_relaxed);
-  while (v > cur && !a.compare_exchange_weak(cur, v, std::memory_order_relaxed)) {
-  }
-}
-
-}  // namespace
 
 TreadWearNode::TreadWearNode(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), pnh_(pnh) {}
 

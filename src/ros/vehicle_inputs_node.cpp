@@ -1,34 +1,18 @@
 #include "tread_wear/ros/vehicle_inputs_node.h"
 
-#include <time.h>
-
 #include <tf2/LinearMath/Quaternion.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <limits>
 #include <cmath>
 #include <sstream>
 
 #include "tread_wear/io/rolling_radius_store.h"
+#include "tread_wear/pipeline/loop_clock.h"
 
 namespace tread_wear {
 namespace {
-
-double threadCpu_us() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return 1e6 * static_cast<double>(ts.tv_sec) + 1e-3 * static_cast<double>(ts.tv_nsec);
-}
-
-double steady_us() {
-  return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-double wallNow_s() {
-  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-}
 
 const char* steerSourceName(SteerSource s) { return s == SteerSource::kMeasured ? "measured" : "none (single-track model)"; }
 
@@ -396,14 +380,14 @@ void VehicleInputsNode::twistCallback(const geometry_msgs::TwistWithCovarianceSt
 
 void VehicleInputsNode::cycle(const ros::TimerEvent& event) {
   // Real time: no allocation, no logging, no blocking I/O from here to the end.
-  const double cpu0 = threadCpu_us(), wall0 = steady_us();
+  const double cpu0_s = threadCpuNow_s(), wall0_s = steadyNow_s();
   const double period_s = 1.0 / config_.publish_rate_hz;
   bool overrun = !event.last_real.isZero() && (event.current_real - event.current_expected).toSec() > period_s;
   const ros::Time now = event.current_real.isZero() ? ros::Time::now() : event.current_real;
   // A backward clock (a looped bag, a sim-time reset) is refused; the next sample restarts the estimator.
   if (!pipeline_->cycle(now.toSec())) ++stats_.clock_faults;
   publishWheelInputs(pipeline_->estimate(), now, &publishers_, &stats_);
-  const double cpu_us = threadCpu_us() - cpu0, wall_us = steady_us() - wall0;
+  const double cpu_us = 1e6 * (threadCpuNow_s() - cpu0_s), wall_us = 1e6 * (steadyNow_s() - wall0_s);
   ++stats_.cycles;
   stats_.last_cpu_us = cpu_us;
   stats_.sum_cpu_us += cpu_us;
