@@ -65,32 +65,48 @@ bool ConcealSpec::validate(std::string* error) const {
   return true;
 }
 
+namespace {
+
+/// A library term's test magnitudes of its primary parameter: the default of generated cases, and the harness's
+/// small and large pair.
+struct TestMagnitudes {
+  Term term;
+  double fallback, small, large;
+};
+constexpr TestMagnitudes kTestMagnitudes[] = {
+    {Term::kThermalWear, 30.0, 45.0, 30.0},      {Term::kThermalFriction, 0.005, 0.003, 0.006},
+    {Term::kSurfacePolishing, 0.6, 0.3, 0.8},    {Term::kLateralCompliance, 3e-4, 2e-4, 4e-4},
+    {Term::kPressureFriction, 0.40, 0.30, 0.50}, {Term::kLoadFluctuation, 0.25, 0.25, 0.40},
+    {Term::kSensorGain, 1.08, 1.05, 1.10},       {Term::kSensorOffset, 4.0, 2.5, 5.0},
+    {Term::kContactTimeWear, 3e-5, 1.5e-5, 3e-5},  // default: about 1 mg/s on a road tyre's 0.03 m^2 footprint
+};
+
+const TestMagnitudes* testMagnitudes(Term term) {
+  for (const TestMagnitudes& m : kTestMagnitudes)
+    if (m.term == term) return &m;
+  return nullptr;
+}
+
+}  // namespace
+
 double defaultMagnitude(Term term) {
-  switch (term) {
-    case Term::kThermalWear:
-      return 30.0;
-    case Term::kThermalFriction:
-      return 0.005;
-    case Term::kSurfacePolishing:
-      return 0.6;
-    case Term::kLateralCompliance:
-      return 3e-4;
-    case Term::kPressureFriction:
-      return 0.40;
-    case Term::kLoadFluctuation:
-      return 0.25;
-    case Term::kSensorGain:
-      return 1.08;
-    case Term::kSensorOffset:
-      return 4.0;
-    case Term::kContactTimeWear:
-      return 3e-5;  // about 1 mg/s on a road tyre's 0.03 m^2 footprint
-    default: {
-      const TermInfo& info = termInfo(term);
-      return info.user && !info.user->test_magnitudes.empty() ? info.user->test_magnitudes.back()
-                                                              : std::numeric_limits<double>::quiet_NaN();
-    }
+  if (const TestMagnitudes* m = testMagnitudes(term)) return m->fallback;
+  const TermInfo& info = termInfo(term);
+  return info.user && !info.user->test_magnitudes.empty() ? info.user->test_magnitudes.back()
+                                                          : std::numeric_limits<double>::quiet_NaN();
+}
+
+bool smallAndLargeMagnitudes(Term term, double* small, double* large) {
+  if (const TestMagnitudes* m = testMagnitudes(term)) {
+    *small = m->small;
+    *large = m->large;
+    return true;
   }
+  const TermInfo& info = termInfo(term);
+  if (!info.user || info.user->test_magnitudes.size() != 2) return false;
+  *small = info.user->test_magnitudes[0];
+  *large = info.user->test_magnitudes[1];
+  return true;
 }
 
 /// The rig programme of the design (every run's conditions, covariates and placeholder measurements), with tread

@@ -27,33 +27,10 @@ std::vector<std::pair<std::string, double>> magnitudes(Term t, bool two) {
     if (!two) return {{"default", kRoughRoadDefaultBeta}};
     return {{"small", 0.35}, {"large", 0.7}};
   }
-  if (!two || t == Term::kTurnSlipOrientation) return {{"default", defaultMagnitude(t)}};
-  switch (t) {
-    case Term::kThermalWear:
-      return {{"small", 45.0}, {"large", 30.0}};
-    case Term::kThermalFriction:
-      return {{"small", 0.003}, {"large", 0.006}};
-    case Term::kSurfacePolishing:
-      return {{"small", 0.3}, {"large", 0.8}};
-    case Term::kLateralCompliance:
-      return {{"small", 2e-4}, {"large", 4e-4}};
-    case Term::kPressureFriction:
-      return {{"small", 0.30}, {"large", 0.50}};
-    case Term::kLoadFluctuation:
-      return {{"small", 0.25}, {"large", 0.40}};
-    case Term::kSensorGain:
-      return {{"small", 1.05}, {"large", 1.10}};
-    case Term::kSensorOffset:
-      return {{"small", 2.5}, {"large", 5.0}};
-    case Term::kContactTimeWear:
-      return {{"small", 1.5e-5}, {"large", 3e-5}};
-    default: {
-      const TermInfo& info = termInfo(t);
-      if (info.user && info.user->test_magnitudes.size() == 2)
-        return {{"small", info.user->test_magnitudes[0]}, {"large", info.user->test_magnitudes[1]}};
-      return {{"default", defaultMagnitude(t)}};
-    }
-  }
+  double small = 0.0, large = 0.0;
+  if (!two || t == Term::kTurnSlipOrientation || !smallAndLargeMagnitudes(t, &small, &large))
+    return {{"default", defaultMagnitude(t)}};
+  return {{"small", small}, {"large", large}};
 }
 
 std::string pct(int num, int den) {

@@ -74,6 +74,9 @@ constexpr const char* kRoughRoadBetaName = "rough_road_beta";
 /// Default magnitude of a term's primary parameter in generated cases; for a user-defined term (user_mechanisms.h)
 /// the last of its test magnitudes, NaN without them (ConcealSpec::magnitude is then needed).
 double defaultMagnitude(Term term);
+/// A small and a large magnitude of a term's primary parameter for the harness's two-magnitude runs; for a
+/// user-defined term its two test magnitudes. false for a term without two (the harness then uses the default).
+bool smallAndLargeMagnitudes(Term term, double* small, double* large);
 /// Generates one case. @throw std::invalid_argument for an invalid spec, an unknown effect or a user-defined one
 /// without a magnitude or that the design cannot show; DiagnosisError for a user-defined one that does not reduce
 /// to the model at its no-effect values.
