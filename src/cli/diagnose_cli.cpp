@@ -34,7 +34,9 @@ const char* const kDiagnoseUsage =
     "       [--max-terms N] [--alpha-locate X] [--alpha-select X] [--detection-power X] [--seed N]\n"
     "       [--plot-script PATH | --no-plots] [--jobs N] [--quiet] [--numerics-sample-cells N]\n"
     "       [--input-timeout-s S] [--update-rate-hz HZ]   (--bag: integration of each wheel's inputs)\n"
-    "       [--cv-groups COVARIATE]   hold out whole groups of a categorical covariate (e.g. brand, test)\n";
+    "       [--cv-groups COVARIATE]   hold out whole groups of a categorical covariate (e.g. brand, test)\n"
+    "       [--cv-calibrate COVARIATE=LEVEL]   each held-out group's wear scale from its runs at LEVEL\n"
+    "                                 (e.g. test=Run-in: a new tyre's one abrasivity from its own run-in)\n";
 
 /// "tread_wear_diagnose: [fast 12.3 s] selection step 1: 4/9 terms, 1,234,567 cells evaluated, about 40 s left in
 /// this step".
@@ -98,7 +100,7 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
       a.parse(argc, argv,
               {"params", "runs", "bag", "report", "orientation", "preset", "candidates", "max-terms", "alpha-locate",
                "alpha-select", "detection-power", "seed", "plot-script", "force-noise-model", "wear-noise-model",
-               "mechanisms", "input-timeout-s", "update-rate-hz", "cv-groups", "jobs", "numerics-sample-cells"},
+               "mechanisms", "input-timeout-s", "update-rate-hz", "cv-groups", "cv-calibrate", "jobs", "numerics-sample-cells"},
               {"no-plots", "quiet"}, &parse_error);
   auto usage = [&](const std::string& msg) { return usageError(err, "tread_wear_diagnose", msg, kDiagnoseUsage); };
   if (a.help()) {
@@ -158,6 +160,13 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
     for (const std::string& w : warnings) err << "tread_wear_diagnose: warning: " << w << "\n";
     DiagnosisData data = buildDiagnosisData(table);
     if (a.has("cv-groups")) holdOutGroups(&data, a.get("cv-groups"));
+    if (a.has("cv-calibrate")) {
+      const std::string spec = a.get("cv-calibrate");
+      const std::size_t eq = spec.find('=');
+      if (eq == std::string::npos || eq == 0 || eq + 1 == spec.size())
+        return usage("--cv-calibrate '" + spec + "': expected COVARIATE=LEVEL, e.g. test=Run-in");
+      calibrateHeldOutGroupsOn(&data, spec.substr(0, eq), spec.substr(eq + 1));
+    }
     data.warnings = warnings;
     DiagnosisResult result = diagnose(params, data, opt);
     result.timings.insert(result.timings.begin(),

@@ -273,5 +273,29 @@ void holdOutGroups(DiagnosisData* data, const std::string& covariate) {
                        (known.empty() ? "none" : known) + ")");
 }
 
+void calibrateHeldOutGroupsOn(DiagnosisData* data, const std::string& covariate, const std::string& level) {
+  const auto c = std::find_if(data->covariates.begin(), data->covariates.end(),
+                              [&](const Covariate& k) { return k.categorical && k.name == covariate; });
+  if (c == data->covariates.end())
+    throw DiagnosisError("cross-validation calibration: '" + covariate + "' is not a categorical covariate");
+  const auto at = std::find(c->levels.begin(), c->levels.end(), level);
+  if (at == c->levels.end())
+    throw DiagnosisError("cross-validation calibration: '" + covariate + "' has no level '" + level + "'");
+  const double index = static_cast<double>(at - c->levels.begin());
+  data->cv_calibration_run.assign(data->runs.size(), 0);
+  std::map<std::string, std::pair<int, int>> calibrating_and_predicted;
+  for (std::size_t i = 0; i < data->runs.size(); ++i) {
+    data->cv_calibration_run[i] = c->values[i] == index ? 1 : 0;
+    auto& counts = calibrating_and_predicted[data->cv_groups[i]];
+    ++(data->cv_calibration_run[i] ? counts.first : counts.second);
+  }
+  for (const auto& [group, counts] : calibrating_and_predicted)
+    if (counts.first == 0 || counts.second == 0)
+      throw DiagnosisError("cross-validation calibration: group '" + group + "' has " +
+                           std::to_string(counts.first) + " runs at " + covariate + " '" + level + "' and " +
+                           std::to_string(counts.second) + " others; it needs both");
+  data->cv_scheme += ", each held-out group's wear scale calibrated on its " + covariate + " " + level;
+}
+
 }  // namespace diagnosis
 }  // namespace tread_wear

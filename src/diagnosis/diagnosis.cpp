@@ -113,7 +113,8 @@ class Fitter {
       params[j].initial = std::clamp(values[j], params[j].lower, params[j].upper);
     LeastSquaresProblem problem = makeProblem(model, params);
     problem.groups = data_.cv_groups;
-    const CrossValidationResult cv = crossValidate(problem, options_.solver);
+    CrossValidationResult cv = crossValidate(problem, options_.solver);
+    if (!data_.cv_calibration_run.empty()) calibrateHeldOutWear(&cv);
     double ss[kNumOutputs] = {0.0, 0.0}, weighted = 0.0;
     int m[kNumOutputs] = {0, 0}, total = 0;
     fitted->cv_run_loss.assign(data_.runs.size(), kNaN);
@@ -136,6 +137,34 @@ class Fitter {
   }
 
  private:
+  /// Each held-out group's wear predicted with its own wear scale c, fitted on its calibration runs (weighted least
+  /// squares of c p against the measured m: c = sum p m / s^2 over sum p^2 / s^2); those runs leave the held-out
+  /// wear residuals. The side force is predicted as fitted.
+  void calibrateHeldOutWear(CrossValidationResult* cv) const {
+    constexpr int o = static_cast<int>(Output::kWear);
+    for (const CrossValidationFold& fold : cv->folds) {
+      double pm = 0.0, pp = 0.0;
+      for (int i : fold.held_out) {
+        const double r = cv->held_out_residuals[static_cast<std::size_t>(i) * kNumOutputs + o];
+        if (!data_.cv_calibration_run[static_cast<std::size_t>(i)] || !std::isfinite(r)) continue;
+        const double s = sigma(static_cast<std::size_t>(i), o), m = data_.runs[static_cast<std::size_t>(i)].measured[o];
+        const double p = r * s + m;
+        pm += p * m / (s * s);
+        pp += p * p / (s * s);
+      }
+      const double scale = pp > 0.0 ? pm / pp : kNaN;
+      for (int i : fold.held_out) {
+        double& r = cv->held_out_residuals[static_cast<std::size_t>(i) * kNumOutputs + o];
+        if (data_.cv_calibration_run[static_cast<std::size_t>(i)] || !std::isfinite(r)) {
+          r = kNaN;
+          continue;
+        }
+        const double s = sigma(static_cast<std::size_t>(i), o), m = data_.runs[static_cast<std::size_t>(i)].measured[o];
+        r = (scale * (r * s + m) - m) / s;
+      }
+    }
+  }
+
   LeastSquaresProblem makeProblem(const ExtendedModel& model, const std::vector<FitParameter>& params) {
     LeastSquaresProblem problem;
     problem.parameters = params;

@@ -285,6 +285,7 @@ EmpiricalResult fitEmpiricalTerms(const TireParams& base, const DiagnosisData& d
         DiagnosisData per_run = data;
         for (std::size_t i = 0; i < per_run.cv_groups.size(); ++i) per_run.cv_groups[i] = std::to_string(i);
         per_run.cv_scheme = "leave one run out";
+        per_run.cv_calibration_run.clear();
         accepted = selectFromFamily(base, per_run, options, family, e.covariate, e.output, &term, &out.log, &why);
       } else {
         accepted = selectFromFamily(base, data, options, family, e.covariate, e.output, &term, &out.log, &why);

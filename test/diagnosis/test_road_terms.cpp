@@ -1,12 +1,14 @@
 // The road wear terms of the library (extensions.h): contact_time_wear adds w4 4ab/V per distance, checked against
 // that closed form summed over each segment's own points (not the cells the model bins them into); adhesion_wear
 // adds a wear linear in its coefficient; both apply to drive segments only. And the cross-validation by whole
-// groups of a recorded covariate (data.h, holdOutGroups).
+// groups of a recorded covariate (data.h, holdOutGroups), each held-out group calibrated on its own runs of one level
+// (calibrateHeldOutGroupsOn).
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "tread_wear/diagnosis/data.h"
+#include "tread_wear/diagnosis/diagnosis.h"
 #include "tread_wear/diagnosis/extensions.h"
 #include "tread_wear/io/params_io.h"
 
@@ -130,4 +132,81 @@ TEST(RoadTerms, HoldOutGroupsLeavesWholeGroupsOut) {
     EXPECT_NE(std::string(e.what()).find("'tyre' is not a categorical covariate"), std::string::npos);
     EXPECT_NE(std::string(e.what()).find("brand"), std::string::npos);  // names the ones there are
   }
+}
+
+namespace {
+
+/// Three brands of two segments each, a calibration test and another, the same drive points for every brand; each
+/// brand's measured wear is its own factor times the road tire's prediction.
+RunTable brandsOfDifferentAbrasivity(const double factor[3]) {
+  RunTable t = driveTable();
+  t.text_covariate_names = {"brand", "test"};
+  for (std::size_t i = 0; i < t.runs.size(); ++i) {
+    t.runs[i].drive_points = t.runs[i % 2].drive_points;
+    t.runs[i].op = t.runs[i % 2].op;
+    t.runs[i].drive_time_s = t.runs[i % 2].drive_time_s;
+    t.runs[i].drive_distance_m = t.runs[i % 2].drive_distance_m;
+    t.runs[i].covariates = {t.runs[i].drive_distance_m};
+    t.runs[i].text_covariates.push_back(i % 2 == 0 ? "Run-in" : "Urban");
+  }
+  const DiagnosisData data = buildDiagnosisData(t);
+  Prediction p;
+  if (!ExtendedModel(roadTire(), {}, {}, data).predict({1.0, 1.0}, &p)) return {};
+  for (std::size_t i = 0; i < t.runs.size(); ++i) t.runs[i].measured_wear_rate_kg_per_m = factor[i / 2] * p.wear_kg_per_m[i];
+  return t;
+}
+
+DiagnosisOptions quickOptions() {
+  DiagnosisOptions o;
+  o.auto_preset = false;
+  o.candidates = {Term::kContactTimeWear};
+  o.max_terms = 1;
+  o.permutations = 99;
+  o.detection_power = 0.0;
+  o.empirical = false;
+  return o;
+}
+
+}  // namespace
+
+TEST(RoadTerms, AHeldOutBrandCalibratedOnItsOwnRunInIsPredictedFromItsFactorAlone) {
+  // Wear = factor x the model at (w3_scale, mu_scale) = (1, 1): the training brands fit the model's shape exactly,
+  // so a held-out brand with its own factor from its Run-in is predicted exactly on its other test, while one
+  // scale for all brands mispredicts it by the brands' spread (factor 2 against the others' 0.5 and 1).
+  const double factor[3] = {0.5, 1.0, 2.0};
+  const RunTable table = brandsOfDifferentAbrasivity(factor);
+  ASSERT_EQ(table.runs.size(), 6u);
+  DiagnosisData data = buildDiagnosisData(table);
+  holdOutGroups(&data, "brand");
+  const DiagnosisResult one_scale = diagnose(roadTire(), data, quickOptions());
+  calibrateHeldOutGroupsOn(&data, "test", "Run-in");
+  EXPECT_EQ(data.cv_scheme, "leave one brand out, each held-out group's wear scale calibrated on its test Run-in");
+  EXPECT_EQ(std::vector<char>(data.cv_calibration_run), (std::vector<char>{1, 0, 1, 0, 1, 0}));
+  const DiagnosisResult calibrated = diagnose(roadTire(), data, quickOptions());
+  const int wear = static_cast<int>(Output::kWear);
+  EXPECT_GT(one_scale.base.cv_rmser[wear], 0.4);
+  // Exact but for the training fit's convergence: a relative cost change of 1e-10 leaves parameter errors of order
+  // its square root, 1e-5, on a valley as flat as mu_scale's here.
+  EXPECT_LT(calibrated.base.cv_rmser[wear], 1e-3);
+  for (std::size_t i = 0; i < data.runs.size(); ++i)  // a calibration run is fitted, not predicted
+    EXPECT_EQ(std::isfinite(calibrated.base.cv_run_loss[i]), i % 2 == 1) << "run " << i;
+}
+
+TEST(RoadTerms, CalibratingHeldOutGroupsNamesWhatIsMissing) {
+  const double factor[3] = {1.0, 1.0, 1.0};
+  DiagnosisData data = buildDiagnosisData(brandsOfDifferentAbrasivity(factor));
+  holdOutGroups(&data, "brand");
+  auto message = [&](const std::string& covariate, const std::string& level) {
+    try {
+      calibrateHeldOutGroupsOn(&data, covariate, level);
+    } catch (const DiagnosisError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(message("tyre", "Run-in").find("'tyre' is not a categorical covariate"), std::string::npos);
+  EXPECT_NE(message("test", "Motorway").find("'test' has no level 'Motorway'"), std::string::npos);
+  holdOutGroups(&data, "test");  // a group of calibration runs only has nothing to predict
+  EXPECT_NE(message("test", "Run-in").find("group 'test Run-in' has 3 runs at test 'Run-in' and 0 others"),
+            std::string::npos);
 }

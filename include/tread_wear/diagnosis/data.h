@@ -84,6 +84,8 @@ struct DiagnosisData {
   /// "leave one cycle out", "leave one period out" (drive segments of all wheels between the same two checkpoints,
   /// by run order), "leave one condition out" or "leave one run out"
   std::string cv_scheme;
+  /// Per run: 1 where the run calibrates its held-out group's wear scale (calibrateHeldOutGroupsOn); empty = none.
+  std::vector<char> cv_calibration_run;
   /// Values left out while screening the recordings, "run i (condition 'c'): why" (recording_checks.h)
   std::vector<std::string> warnings;
 };
@@ -93,6 +95,14 @@ struct DiagnosisData {
 /// with one offset per group then cannot predict a group it has not seen. @throw DiagnosisError when `covariate` is
 /// not a categorical covariate of the data (the error lists those that are) or it has fewer than 2 levels.
 void holdOutGroups(DiagnosisData* data, const std::string& covariate);
+
+/// A held-out group is predicted as a new tyre would be: with its own wear scale, one factor fitted on its runs
+/// whose categorical `covariate` is `level` (e.g. test Run-in: one abrasivity per brand from its own run-in, as
+/// the LEON-T comparison calibrates), every other parameter from the training groups. Those runs are then
+/// calibration, not prediction: they leave the held-out error. @throw DiagnosisError when `covariate` is not a
+/// categorical covariate, `level` is not one of its levels, or a cross-validation group has no run at `level` or
+/// nothing else (the error names the group).
+void calibrateHeldOutGroupsOn(DiagnosisData* data, const std::string& covariate, const std::string& level);
 
 /// Builds the diagnosis records from a run table. @throw DiagnosisError when fewer than 4 runs have a
 /// measurement or a measured value is not positive (the relative errors of Eq 24 need a positive value).
