@@ -100,7 +100,8 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
       a.parse(argc, argv,
               {"params", "runs", "bag", "report", "orientation", "preset", "candidates", "max-terms", "alpha-locate",
                "alpha-select", "detection-power", "seed", "plot-script", "force-noise-model", "wear-noise-model",
-               "mechanisms", "input-timeout-s", "update-rate-hz", "cv-groups", "cv-calibrate", "jobs", "numerics-sample-cells"},
+               "mechanisms", "input-timeout-s", "update-rate-hz", "cv-groups", "cv-calibrate", "jobs",
+               "numerics-sample-cells"},
               {"no-plots", "quiet"}, &parse_error);
   auto usage = [&](const std::string& msg) { return usageError(err, "tread_wear_diagnose", msg, kDiagnoseUsage); };
   if (a.help()) {
@@ -147,6 +148,10 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
   if (seed < 0) return usage("--seed must be a non-negative integer");
   opt.seed = static_cast<std::uint64_t>(seed);
   if (!opt.validate(&e)) return usage(e);
+  const std::string calibration = a.get("cv-calibrate");
+  if (a.has("cv-calibrate") &&
+      (calibration.find('=') == std::string::npos || calibration.front() == '=' || calibration.back() == '='))
+    return usage("--cv-calibrate '" + calibration + "': expected COVARIATE=LEVEL, e.g. test=Run-in");
 
   try {
     const TireParams params = loadTireParams(a.get("params"));
@@ -160,13 +165,9 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
     for (const std::string& w : warnings) err << "tread_wear_diagnose: warning: " << w << "\n";
     DiagnosisData data = buildDiagnosisData(table);
     if (a.has("cv-groups")) holdOutGroups(&data, a.get("cv-groups"));
-    if (a.has("cv-calibrate")) {
-      const std::string spec = a.get("cv-calibrate");
-      const std::size_t eq = spec.find('=');
-      if (eq == std::string::npos || eq == 0 || eq + 1 == spec.size())
-        return usage("--cv-calibrate '" + spec + "': expected COVARIATE=LEVEL, e.g. test=Run-in");
-      calibrateHeldOutGroupsOn(&data, spec.substr(0, eq), spec.substr(eq + 1));
-    }
+    if (a.has("cv-calibrate"))
+      calibrateHeldOutGroupsOn(&data, calibration.substr(0, calibration.find('=')),
+                               calibration.substr(calibration.find('=') + 1));
     data.warnings = warnings;
     DiagnosisResult result = diagnose(params, data, opt);
     result.timings.insert(result.timings.begin(),

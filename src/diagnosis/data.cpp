@@ -291,9 +291,9 @@ void calibrateHeldOutGroupsOn(DiagnosisData* data, const std::string& covariate,
   }
   for (const auto& [group, counts] : calibrating_and_predicted)
     if (counts.first == 0 || counts.second == 0)
-      throw DiagnosisError("cross-validation calibration: group '" + group + "' has " +
-                           std::to_string(counts.first) + " runs at " + covariate + " '" + level + "' and " +
-                           std::to_string(counts.second) + " others; it needs both");
+      throw DiagnosisError("cross-validation calibration: group '" + group + "' has " + std::to_string(counts.first) +
+                           " runs at " + covariate + " '" + level + "' and " + std::to_string(counts.second) +
+                           " others; it needs both");
   data->cv_scheme += ", each held-out group's wear scale calibrated on its " + covariate + " " + level;
 }
 

@@ -128,6 +128,13 @@ TEST(DiagnosisInputs, CliUsageErrors) {
       << noise.err;
   EXPECT_EQ(diagnoseCli({"--params", kParams, "--runs", "a.csv", "--report", "r", "--wear-noise-model", "gauss"}).code,
             2);
+  // A calibration of held-out groups without its level (refused before any recording is read: a.csv does not exist)
+  for (const char* spec : {"test", "=Run-in", "test=", ""}) {
+    const CliResult calibrate =
+        diagnoseCli({"--params", kParams, "--runs", "a.csv", "--report", "r", "--cv-calibrate", spec});
+    EXPECT_EQ(calibrate.code, 2) << spec;
+    EXPECT_NE(calibrate.err.find("expected COVARIATE=LEVEL"), std::string::npos) << calibrate.err;
+  }
 }
 
 TEST(DiagnosisInputs, CliDataErrors) {

@@ -152,7 +152,8 @@ RunTable brandsOfDifferentAbrasivity(const double factor[3]) {
   const DiagnosisData data = buildDiagnosisData(t);
   Prediction p;
   if (!ExtendedModel(roadTire(), {}, {}, data).predict({1.0, 1.0}, &p)) return {};
-  for (std::size_t i = 0; i < t.runs.size(); ++i) t.runs[i].measured_wear_rate_kg_per_m = factor[i / 2] * p.wear_kg_per_m[i];
+  for (std::size_t i = 0; i < t.runs.size(); ++i)
+    t.runs[i].measured_wear_rate_kg_per_m = factor[i / 2] * p.wear_kg_per_m[i];
   return t;
 }
 
