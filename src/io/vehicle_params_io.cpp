@@ -30,6 +30,7 @@ VehicleParams loadVehicleParams(const std::string& path) {
       {"front_roll_stiffness_share", &p.front_roll_stiffness_share},
       {"all_wheel_front_drive_share", &p.all_wheel_front_drive_share},
       {"brake_balance_front", &p.brake_balance_front},
+      {"ackermann_share", &p.ackermann_share},
       {"drag_coefficient", &p.drag_coefficient},
       {"frontal_area_m2", &p.frontal_area_m2},
       {"air_density_kg_per_m3", &p.air_density_kg_per_m3},

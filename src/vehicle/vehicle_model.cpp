@@ -62,6 +62,7 @@ bool VehicleParams::validate(std::string* error) const {
     return failValidation(error, "all_wheel_front_drive_share", all_wheel_front_drive_share, "in [0, 1]");
   if (!unitInterval(brake_balance_front))
     return failValidation(error, "brake_balance_front", brake_balance_front, "in [0, 1]");
+  if (!unitInterval(ackermann_share)) return failValidation(error, "ackermann_share", ackermann_share, "in [0, 1]");
   if (!nonNegative(drag_coefficient))
     return failValidation(error, "drag_coefficient", drag_coefficient, "finite and >= 0");
   if (!nonNegative(frontal_area_m2))
@@ -149,21 +150,25 @@ void VehicleModel::evaluate(const VehicleMotion& motion, VehicleState* state) co
                                                          : p.all_wheel_front_drive_share;
   }
 
-  double steer_sum = 0.0;
+  std::array<double, kWheelCount> heading{}, speed_ratio{};  // of each wheel's velocity, in units of v
+  for (int i = 0; i < kWheelCount; ++i) {
+    const double wx = u * ca - kappa * y[i], wy = u * sa + kappa * (l_r + x[i]);
+    heading[i] = std::atan2(wy, wx);
+    speed_ratio[i] = std::hypot(wx, wy);
+  }
+  const double mean_steer = 0.5 * ((heading[kFrontLeft] - alpha_front) + (heading[kFrontRight] - alpha_front));
   for (int i = 0; i < kWheelCount; ++i) {
     WheelState& w = state->wheels[static_cast<std::size_t>(i)];
     const bool front = i < kRearLeft;
-    const double wx = u * ca - kappa * y[i], wy = u * sa + kappa * (l_r + x[i]);
-    const double speed_ratio = std::hypot(wx, wy);
     w.load_n = fz[i];
-    w.speed_mps = v * speed_ratio;
-    w.path_curvature_per_m = speed_ratio > 0.0 ? kappa / speed_ratio : 0.0;
-    if (front) {
-      w.slip_angle_rad = alpha_front;  // ideal Ackermann: each front wheel steered to the axle slip angle
-      steer_sum += std::atan2(wy, wx) - alpha_front;
-    } else {
-      w.slip_angle_rad = std::atan2(wy, wx);
-    }
+    w.speed_mps = v * speed_ratio[i];
+    w.path_curvature_per_m = speed_ratio[i] > 0.0 ? kappa / speed_ratio[i] : 0.0;
+    if (!front)
+      w.slip_angle_rad = heading[i];
+    else if (p.ackermann_share < 1.0)
+      w.slip_angle_rad = alpha_front + (1.0 - p.ackermann_share) * (heading[i] - alpha_front - mean_steer);
+    else
+      w.slip_angle_rad = alpha_front;  // ideal: the axle's angle as it is (a signed zero on the straight stays one)
     const double axle_load = front ? axle_front : axle_rear;
     w.fy_demand_n = axle_load > 0.0 ? (front ? fy_front : fy_rear) * fz[i] / axle_load : 0.0;
     const double share = 0.5 * (front ? front_share : 1.0 - front_share);
@@ -176,7 +181,7 @@ void VehicleModel::evaluate(const VehicleMotion& motion, VehicleState* state) co
       w.slip_ratio = 0.0;
     }
   }
-  state->steer_angle_rad = 0.5 * steer_sum;
+  state->steer_angle_rad = mean_steer;
 }
 
 }  // namespace tread_wear

@@ -125,6 +125,35 @@ TEST(VehicleModel, RightTurnMirrorsLeftTurn) {
   }
 }
 
+TEST(VehicleModel, BelowIdealAckermannTheFrontTyresScrubAgainstEachOther) {
+  // Creeping round a tight left turn (CoG radius R = 5.85 m, the LEON-T turnovers at full lock): the slip angles are
+  // ~1e-5 rad, so the instant centre lies on the rear axle line at R_r = sqrt(R^2 - l_r^2) from its centre and the
+  // front wheels' ideal steer angles are atan(L / (R_r -+ t_f/2)) (geometry, not the model's algebra). With
+  // Ackermann share A each front wheel steers to the mean plus A times its ideal deviation, so its slip angle is
+  // (1 - A) times that deviation: the inner wheel positive (pushed outwards), the outer one negative.
+  VehicleParams p;
+  const double radius_m = 5.85, v = 0.1;
+  const double r_rear = std::sqrt(radius_m * radius_m - p.cogToRearAxle_m() * p.cogToRearAxle_m());
+  const double inner = std::atan(p.wheelbase_m / (r_rear - 0.5 * p.track_front_m));
+  const double outer = std::atan(p.wheelbase_m / (r_rear + 0.5 * p.track_front_m));
+  const double half_difference = 0.5 * (inner - outer);  // 0.051 rad for this car
+  for (double share : {1.0, 0.5, 0.0}) {
+    p.ackermann_share = share;
+    const VehicleState s = evaluate(VehicleModel(p), v, 0.0, 1.0 / radius_m);
+    EXPECT_NEAR(s.wheels[kFrontLeft].slip_angle_rad, (1.0 - share) * half_difference, 1e-4) << "A = " << share;
+    EXPECT_NEAR(s.wheels[kFrontRight].slip_angle_rad, -(1.0 - share) * half_difference, 1e-4) << "A = " << share;
+    EXPECT_NEAR(s.steer_angle_rad, 0.5 * (inner + outer), 1e-4);  // the mean steer is the geometry's, whatever A
+    EXPECT_NEAR(s.wheels[kRearLeft].slip_angle_rad, 0.0, 1e-4);   // the rear axle is not steered
+  }
+  p.ackermann_share = 1.5;
+  std::string error;
+  EXPECT_FALSE(p.validate(&error));
+  EXPECT_NE(error.find("ackermann_share = 1.5"), std::string::npos) << error;
+  const std::string path = ::testing::TempDir() + "vehicle_ackermann.yaml";
+  std::ofstream(path) << "ackermann_share: 0.4\n";
+  EXPECT_DOUBLE_EQ(loadVehicleParams(path).ackermann_share, 0.4);
+}
+
 TEST(VehicleModel, CarSlipStiffnessesMatchTheTireBrushModel) {
   // The car's linear slip estimates must agree with the forces its tire's brush model produces for them.
   const VehicleParams car = loadVehicleParams(kSource + "/config/vehicle_passenger_car.yaml");

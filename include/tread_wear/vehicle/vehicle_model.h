@@ -25,9 +25,14 @@
 ///   axle slip angles       alpha_axle = -Fy_axle / (c_alpha Fz_axle)  (linear, cornering stiffness
 ///                          proportional to axle load; ISO sign: a left force needs alpha < 0)
 ///   wheel kinematics       rigid body turning about its instant centre: wheel velocity v_CoG + r x p_i,
-///                          fixed by the rear-axle slip angle; front wheels steered with ideal Ackermann so
-///                          both carry the front-axle slip angle; rear slip angles from their velocities;
+///                          fixed by the rear-axle slip angle; rear slip angles from their velocities;
 ///                          wheel speed V_i = |v_i|; wheel path curvature r / V_i.
+///   front steer angles     ideal angles delta_i,ideal = atan2(v_i,y, v_i,x) - alpha_f put each front wheel at the
+///                          front-axle slip angle alpha_f; with Ackermann share A the geometry steers them to
+///                          delta_i = delta + A (delta_i,ideal - delta), delta the mean of the ideal angles (the same
+///                          form as vehicle_input_estimator.h), so alpha_i = alpha_f + (1 - A) (delta_i,ideal - delta):
+///                          below A = 1 the two front tyres take opposite slip angles and scrub against each other,
+///                          +-(1 - A) L t_f / (2 R^2) on a turn of radius R >> L, t_f at low speed
 ///   wheel longitudinal     Fx_i = share_i F - f_r Fz_i ramp(v)  (drive shares by layout, brake shares by
 ///                          balance, split equally left/right); slip ratio from the brush-type law
 ///                          Fx = C_kappa kappa/(1 + kappa) with C_kappa = c_kappa Fz_i, so kappa = u/(1 - u),
@@ -60,6 +65,7 @@ struct VehicleParams {
   DriveLayout drive_layout = DriveLayout::kFront;
   double all_wheel_front_drive_share = 0.5;         ///< front share of drive torque when all-wheel driven [-], [0, 1]
   double brake_balance_front = 0.7;                 ///< front share of brake torque [-], in [0, 1]
+  double ackermann_share = 1.0;  ///< A: 1 ideal Ackermann about the rear axle, 0 parallel steering [-], in [0, 1]
   double drag_coefficient = 0.30;                   ///< c_d [-], >= 0
   double frontal_area_m2 = 2.2;                     ///< A [m^2], >= 0
   double air_density_kg_per_m3 = 1.2;               ///< rho [kg/m^3], >= 0
