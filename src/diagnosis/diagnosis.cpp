@@ -142,24 +142,25 @@ class Fitter {
   /// wear residuals. The side force is predicted as fitted.
   void calibrateHeldOutWear(CrossValidationResult* cv) const {
     constexpr int o = static_cast<int>(Output::kWear);
+    auto residual = [&](std::size_t run) -> double& { return cv->held_out_residuals[run * kNumOutputs + o]; };
     for (const CrossValidationFold& fold : cv->folds) {
       double pm = 0.0, pp = 0.0;
       for (int i : fold.held_out) {
-        const double r = cv->held_out_residuals[static_cast<std::size_t>(i) * kNumOutputs + o];
-        if (!data_.cv_calibration_run[static_cast<std::size_t>(i)] || !std::isfinite(r)) continue;
-        const double s = sigma(static_cast<std::size_t>(i), o), m = data_.runs[static_cast<std::size_t>(i)].measured[o];
-        const double p = r * s + m;
+        const auto run = static_cast<std::size_t>(i);
+        if (!data_.cv_calibration_run[run] || !std::isfinite(residual(run))) continue;
+        const double s = sigma(run, o), m = data_.runs[run].measured[o], p = residual(run) * s + m;
         pm += p * m / (s * s);
         pp += p * p / (s * s);
       }
       const double scale = pp > 0.0 ? pm / pp : kNaN;
       for (int i : fold.held_out) {
-        double& r = cv->held_out_residuals[static_cast<std::size_t>(i) * kNumOutputs + o];
-        if (data_.cv_calibration_run[static_cast<std::size_t>(i)] || !std::isfinite(r)) {
+        const auto run = static_cast<std::size_t>(i);
+        double& r = residual(run);
+        if (data_.cv_calibration_run[run] || !std::isfinite(r)) {
           r = kNaN;
           continue;
         }
-        const double s = sigma(static_cast<std::size_t>(i), o), m = data_.runs[static_cast<std::size_t>(i)].measured[o];
+        const double s = sigma(run, o), m = data_.runs[run].measured[o];
         r = (scale * (r * s + m) - m) / s;
       }
     }
