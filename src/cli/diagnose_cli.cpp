@@ -149,8 +149,8 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
   opt.seed = static_cast<std::uint64_t>(seed);
   if (!opt.validate(&e)) return usage(e);
   const std::string calibration = a.get("cv-calibrate");
-  if (a.has("cv-calibrate") &&
-      (calibration.find('=') == std::string::npos || calibration.front() == '=' || calibration.back() == '='))
+  const std::size_t equals = calibration.find('=');
+  if (a.has("cv-calibrate") && (equals == std::string::npos || equals == 0 || calibration.back() == '='))
     return usage("--cv-calibrate '" + calibration + "': expected COVARIATE=LEVEL, e.g. test=Run-in");
 
   try {
@@ -166,8 +166,7 @@ int runDiagnoseCli(int argc, const char* const argv[], const BagReader& bag_read
     DiagnosisData data = buildDiagnosisData(table);
     if (a.has("cv-groups")) holdOutGroups(&data, a.get("cv-groups"));
     if (a.has("cv-calibrate"))
-      calibrateHeldOutGroupsOn(&data, calibration.substr(0, calibration.find('=')),
-                               calibration.substr(calibration.find('=') + 1));
+      calibrateHeldOutGroupsOn(&data, calibration.substr(0, equals), calibration.substr(equals + 1));
     data.warnings = warnings;
     DiagnosisResult result = diagnose(params, data, opt);
     result.timings.insert(result.timings.begin(),

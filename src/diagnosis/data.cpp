@@ -229,6 +229,19 @@ void crossValidationGroups(DiagnosisData* d) {
                                                        : "leave one run out";
 }
 
+/// The categorical covariate `name` of the data. @throw DiagnosisError "<purpose>: 'name' is not a categorical
+/// covariate of the recordings (those ...)" naming the ones there are.
+const Covariate& categoricalCovariate(const DiagnosisData& data, const std::string& name, const std::string& purpose) {
+  std::string known;
+  for (const Covariate& c : data.covariates) {
+    if (!c.categorical) continue;
+    if (c.name == name) return c;
+    known += (known.empty() ? "" : ", ") + c.name;
+  }
+  throw DiagnosisError(purpose + ": '" + name + "' is not a categorical covariate of the recordings (those with 2 to " +
+                       "n/2 levels: " + (known.empty() ? "none" : known) + ")");
+}
+
 }  // namespace
 
 DiagnosisData buildDiagnosisData(const RunTable& table) {
@@ -253,39 +266,24 @@ DiagnosisData buildDiagnosisData(const RunTable& table) {
 }
 
 void holdOutGroups(DiagnosisData* data, const std::string& covariate) {
-  std::string known;
-  for (const Covariate& c : data->covariates) {
-    if (!c.categorical) continue;
-    if (c.name != covariate) {
-      known += (known.empty() ? "" : ", ") + c.name;
-      continue;
-    }
-    if (c.levels.size() < 2)
-      throw DiagnosisError("cross-validation groups '" + covariate + "': one level, nothing to hold out");
-    data->cv_groups.clear();
-    for (double v : c.values) data->cv_groups.push_back(covariate + " " + c.levels[static_cast<std::size_t>(v)]);
-    data->cv_scheme = "leave one " + covariate + " out";
-    return;
-  }
-  throw DiagnosisError("cross-validation groups: '" + covariate +
-                       "' is not a categorical covariate of the "
-                       "recordings (those with 2 to n/2 levels: " +
-                       (known.empty() ? "none" : known) + ")");
+  const Covariate& c = categoricalCovariate(*data, covariate, "cross-validation groups");
+  if (c.levels.size() < 2)
+    throw DiagnosisError("cross-validation groups '" + covariate + "': one level, nothing to hold out");
+  data->cv_groups.clear();
+  for (double v : c.values) data->cv_groups.push_back(covariate + " " + c.levels[static_cast<std::size_t>(v)]);
+  data->cv_scheme = "leave one " + covariate + " out";
 }
 
 void calibrateHeldOutGroupsOn(DiagnosisData* data, const std::string& covariate, const std::string& level) {
-  const auto c = std::find_if(data->covariates.begin(), data->covariates.end(),
-                              [&](const Covariate& k) { return k.categorical && k.name == covariate; });
-  if (c == data->covariates.end())
-    throw DiagnosisError("cross-validation calibration: '" + covariate + "' is not a categorical covariate");
-  const auto at = std::find(c->levels.begin(), c->levels.end(), level);
-  if (at == c->levels.end())
+  const Covariate& c = categoricalCovariate(*data, covariate, "cross-validation calibration");
+  const auto at = std::find(c.levels.begin(), c.levels.end(), level);
+  if (at == c.levels.end())
     throw DiagnosisError("cross-validation calibration: '" + covariate + "' has no level '" + level + "'");
-  const double index = static_cast<double>(at - c->levels.begin());
+  const double index = static_cast<double>(at - c.levels.begin());
   data->cv_calibration_run.assign(data->runs.size(), 0);
   std::map<std::string, std::pair<int, int>> calibrating_and_predicted;
   for (std::size_t i = 0; i < data->runs.size(); ++i) {
-    data->cv_calibration_run[i] = c->values[i] == index ? 1 : 0;
+    data->cv_calibration_run[i] = c.values[i] == index ? 1 : 0;
     auto& counts = calibrating_and_predicted[data->cv_groups[i]];
     ++(data->cv_calibration_run[i] ? counts.first : counts.second);
   }
